@@ -1,0 +1,47 @@
+#include "dynorb/io/atomic_file.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "dynorb/core/error.h"
+
+namespace dynorb {
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  namespace fs = std::filesystem;
+  const fs::path target(path_);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError("output directory does not exist: " + dir.string());
+  temp_path_ = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()))).string();
+  out_.open(temp_path_, std::ios::binary | std::ios::trunc);
+  if (!out_) throw InputError("cannot write to " + path_ + " (is the directory writable?)");
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) {
+    out_.close();
+    std::remove(temp_path_.c_str());
+  }
+}
+
+void AtomicFile::Commit() {
+  out_.flush();
+  const bool ok = static_cast<bool>(out_);
+  out_.close();
+  if (!ok) throw InputError("failed writing " + path_);
+  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+    throw InputError("cannot move " + temp_path_ + " to " + path_);
+  }
+  committed_ = true;
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  AtomicFile file(path);
+  file.stream() << content;
+  file.Commit();
+}
+
+}  // namespace dynorb

@@ -1,0 +1,25 @@
+// Reading and writing trajectories in the TUM RGB-D format:
+//   timestamp tx ty tz qx qy qz qw      (world_from_cam: camera position and orientation in world)
+// '#' comment lines and blank lines are allowed; fields are separated by spaces, tabs or commas.
+#pragma once
+
+#include <string>
+
+#include "dynorb/core/trajectory.h"
+
+namespace dynorb {
+
+struct TrajectoryReadOptions {
+  // Require strictly increasing timestamps (duplicates and reordering are errors).
+  bool require_increasing_timestamps = true;
+};
+
+// Throws InputError naming file and line for: missing file, malformed line, NaN/Inf values, a
+// quaternion far from unit norm (|q| not in [0.9, 1.1]), non-increasing timestamps, empty file.
+Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options = {});
+
+// Writes atomically with full double precision (timestamps to 1e-6 s, poses to 1e-9).
+void WriteTumTrajectory(const std::string& path, const Trajectory& trajectory);
+std::string FormatTumPoseLine(const StampedPose& pose);
+
+}  // namespace dynorb
