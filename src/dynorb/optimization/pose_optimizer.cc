@@ -1,0 +1,72 @@
+#include "dynorb/optimization/pose_optimizer.h"
+
+#include <cmath>
+#include <memory>
+
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include "dynorb/core/error.h"
+#include "dynorb/optimization/pose_block.h"
+
+namespace dynorb {
+
+void PoseOptimizerOptions::Validate() const {
+  if (num_rounds < 1 || iterations_per_round < 1 || robust_rounds < 0 || chi2_mono <= 0.0 ||
+      chi2_stereo <= 0.0) {
+    throw InputError("pose optimizer: rounds/iterations must be >= 1 and chi2 gates > 0");
+  }
+}
+
+PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
+                                 const std::vector<PoseObservation>& observations,
+                                 const Rigid3d& initial_cam_from_world, const PoseOptimizerOptions& options) {
+  PoseOptimizerResult result;
+  result.cam_from_world = initial_cam_from_world;
+  result.inlier.assign(observations.size(), true);
+  if (observations.empty()) return result;
+
+  PoseBlock pose = ToPoseBlock(initial_cam_from_world);
+  for (int round = 0; round < options.num_rounds; ++round) {
+    const bool robust = round < options.robust_rounds;
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
+    int used = 0;
+    for (size_t i = 0; i < observations.size(); ++i) {
+      if (!result.inlier[i]) continue;
+      const PoseObservation& obs = observations[i];
+      const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      ceres::LossFunction* loss = robust ? new ceres::HuberLoss(std::sqrt(gate)) : nullptr;
+      problem.AddResidualBlock(NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world), loss,
+                               pose.data());
+      ++used;
+    }
+    if (used < 3) break;
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = options.iterations_per_round;
+    solver_options.num_threads = 1;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+
+    // Re-classify every observation (including earlier outliers) against the new pose.
+    const Rigid3d cam_from_world = FromPoseBlock(pose.data());
+    for (size_t i = 0; i < observations.size(); ++i) {
+      const PoseObservation& obs = observations[i];
+      const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      const double chi2 = ReprojectionChi2(camera, bf, obs.keypoint, cam_from_world * obs.point_in_world);
+      result.inlier[i] = chi2 <= gate;
+    }
+  }
+  result.cam_from_world = FromPoseBlock(pose.data());
+  result.num_inliers = 0;
+  for (bool b : result.inlier) result.num_inliers += b ? 1 : 0;
+  return result;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,44 @@
+// Pose-only optimisation (motion-only BA) of one frame against known 3-D points, as ORB-SLAM2's
+// tracking does it: minimise  sum_i rho( r_i^T r_i )  over cam_from_world, where r_i is the
+// reprojection residual of reprojection_cost.h (2-D for monocular, 3-D for RGB-D observations)
+// and rho is Huber with threshold sqrt(chi2 gate). `num_rounds` rounds of `iterations_per_round`
+// Levenberg-Marquardt iterations; after each round every observation is re-classified by its
+// chi^2 against the gate (5.991 for 2 dof, 7.815 for 3 dof: 95 %), outliers are excluded from
+// the next round, and the robust kernel is dropped for the last rounds.
+// Stateless and thread-safe; deterministic (single-threaded Ceres).
+#pragma once
+
+#include <vector>
+
+#include "dynorb/core/pinhole_camera.h"
+#include "dynorb/core/rigid3.h"
+#include "dynorb/optimization/reprojection_cost.h"
+
+namespace dynorb {
+
+struct PoseOptimizerOptions {
+  int num_rounds = 4;               // Outlier re-classification rounds.
+  int iterations_per_round = 10;    // LM iterations per round.
+  int robust_rounds = 2;            // Rounds that use the Huber kernel (the rest are plain L2).
+  double chi2_mono = 5.991;         // 95 % chi^2 gate, 2 dof.
+  double chi2_stereo = 7.815;       // 95 % chi^2 gate, 3 dof.
+  void Validate() const;            // Throws InputError on nonsense values.
+};
+
+struct PoseObservation {
+  Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
+  KeypointObservation keypoint;
+};
+
+struct PoseOptimizerResult {
+  Rigid3d cam_from_world;
+  std::vector<bool> inlier;  // One flag per observation.
+  int num_inliers = 0;
+};
+
+PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
+                                 const std::vector<PoseObservation>& observations,
+                                 const Rigid3d& initial_cam_from_world,
+                                 const PoseOptimizerOptions& options = {});
+
+}  // namespace dynorb

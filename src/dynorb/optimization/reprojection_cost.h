@@ -1,0 +1,40 @@
+// Reprojection residual of a keypoint observation in an RGB-D (or monocular) frame.
+//
+// With point_in_cam p = R * point_in_world + t  (cam_from_world = [R | t]) and
+//   u = fx * p.x / p.z + cx,   v = fy * p.y / p.z + cy,   u_r = u - bf / p.z,
+// the residual is  r = sqrt(information) * (observed - predicted)  with 2 components (u, v) for a
+// monocular observation or 3 (u, v, u_r) for an RGB-D observation with a virtual right
+// coordinate u_r = u - bf / depth (ORB-SLAM2's stereo formulation of RGB-D). `information` is the
+// inverse variance 1 / sigma^2 of the keypoint's pyramid level. Jacobians are analytic (see .cc).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "dynorb/core/pinhole_camera.h"
+
+namespace ceres {
+class CostFunction;
+}
+
+namespace dynorb {
+
+struct KeypointObservation {
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  double u_right = -1.0;     // < 0: monocular observation (no valid depth).
+  double information = 1.0;  // 1 / sigma^2 in px^-2.
+  bool IsStereo() const { return u_right >= 0.0; }
+};
+
+// Parameter blocks: [pose (7, see pose_block.h), point_in_world (3)].
+ceres::CostFunction* NewReprojectionCost(const PinholeCamera& camera, double bf, const KeypointObservation& obs);
+// Parameter blocks: [pose (7)]; the point is held fixed.
+ceres::CostFunction* NewPoseOnlyReprojectionCost(const PinholeCamera& camera, double bf,
+                                                 const KeypointObservation& obs,
+                                                 const Eigen::Vector3d& point_in_world);
+
+// Unweighted chi^2 helper for outlier gating: information * |observed - predicted|^2.
+// Returns +inf when the point is not in front of the camera.
+double ReprojectionChi2(const PinholeCamera& camera, double bf, const KeypointObservation& obs,
+                        const Eigen::Vector3d& point_in_cam);
+
+}  // namespace dynorb
