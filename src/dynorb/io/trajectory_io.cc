@@ -26,6 +26,8 @@ Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOption
     if (norm < 0.9 || norm > 1.1) {
       throw InputErrorAt(path, line_no, "quaternion is not unit length (|q| = " + std::to_string(norm) + ")");
     }
+    const bool duplicate = !trajectory.empty() && v[0] == trajectory.back().timestamp_s;
+    if (duplicate && options.keep_last_of_duplicate_timestamps) trajectory.pop_back();
     if (options.require_increasing_timestamps && !trajectory.empty() &&
         v[0] <= trajectory.back().timestamp_s) {
       throw InputErrorAt(path, line_no,

@@ -12,6 +12,11 @@ namespace dynorb {
 struct TrajectoryReadOptions {
   // Require strictly increasing timestamps (duplicates and reordering are errors).
   bool require_increasing_timestamps = true;
+  // Accept a pose whose timestamp equals the previous one and keep the later pose (TUM's
+  // evaluate_ate.py/associate.py read into a dict, so the last line wins). Needed for the official
+  // fr3/walking_static groundtruth.txt, which repeats 1341846251.4587. Decreasing stamps are still
+  // rejected when require_increasing_timestamps is set.
+  bool keep_last_of_duplicate_timestamps = false;
 };
 
 // Throws InputError naming file and line for: missing file, malformed line, NaN/Inf values, a

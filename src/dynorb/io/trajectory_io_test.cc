@@ -76,6 +76,20 @@ TEST_F(TrajectoryIoTest, RejectsBadInputWithLineNumbers) {
   EXPECT_THROW(ReadTumTrajectory((dir_ / "missing.txt").string()), InputError);
 }
 
+TEST_F(TrajectoryIoTest, DuplicateTimestampsCanKeepTheLastPose) {
+  const std::string path = Write("dup.txt", "1.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n2.0 2 0 0 0 0 0 1\n3.0 3 0 0 0 0 0 1\n");
+  EXPECT_THROW(ReadTumTrajectory(path), InputError);
+  TrajectoryReadOptions options;
+  options.keep_last_of_duplicate_timestamps = true;
+  const Trajectory r = ReadTumTrajectory(path, options);
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[1].timestamp_s, 2.0);
+  EXPECT_EQ(r[1].world_from_cam.translation.x(), 2.0);
+  // Decreasing stamps are still rejected.
+  EXPECT_THROW(ReadTumTrajectory(Write("dec.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n"), options),
+               InputError);
+}
+
 TEST_F(TrajectoryIoTest, FailedWriteLeavesNoFile) {
   EXPECT_THROW(WriteTumTrajectory((dir_ / "no_such_dir" / "t.txt").string(), {}), InputError);
   EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));
