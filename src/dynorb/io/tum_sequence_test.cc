@@ -287,7 +287,10 @@ TEST(TumRealData, Frame0OfWalkingXyzLoadsWithPlausibleDepth) {
     std::nth_element(valid.begin(), valid.begin() + valid.size() / 2, valid.end());
     const float median = valid[valid.size() / 2];
     const float max_depth = *std::max_element(valid.begin(), valid.end());
-    EXPECT_GT(valid_fraction, 0.7);
+    // Measured on this frame: 70.6 % valid, median 2.618 m. A Kinect frame has holes but is
+    // mostly valid; metres (not mm or raw units) put the median in a room-sized range.
+    EXPECT_GT(valid_fraction, 0.5);
+    EXPECT_LT(valid_fraction, 0.95);
     EXPECT_GT(median, 0.5f);
     EXPECT_LT(median, 5.0f);
     EXPECT_LT(max_depth, 10.0f);  // a 16-bit/5000 misread would give up to 13 m; mm would give 65 m
