@@ -1,0 +1,118 @@
+#include "dynorb/eval/report.h"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <gtest/gtest.h>
+
+#include "dynorb/eval/plot.h"
+#include "dynorb/eval/trajectory_generator.h"
+
+namespace dynorb {
+namespace {
+
+struct Fixture {
+  TrajectoryPair pair;
+  EvalResult result;
+};
+
+Fixture Make(double drop_fraction = 0.02) {
+  TrajectoryPairOptions o;
+  o.duration_s = 20.0;
+  o.drop_fraction = drop_fraction;
+  Fixture f;
+  f.pair = GenerateTrajectoryPair(o);
+  f.result = EvaluateTrajectories(f.pair.groundtruth, f.pair.estimate, EvalOptions());
+  return f;
+}
+
+TEST(Report, TableHasAllRowsAndDefinitions) {
+  const Fixture f = Make();
+  const std::string table = FormatReportTable(f.result, {"gt.txt", "est.txt"});
+  for (const char* needle : {"ground truth  gt.txt (601 poses)", "ATE [m]", "RPE trans [m/s]", "RPE rot [deg/s]",
+                             "coverage", "alignment     se3", "evaluate_rpe.py --fixed_delta --delta 1 --delta_unit s",
+                             "rmse", "median"}) {
+    EXPECT_NE(table.find(needle), std::string::npos) << needle << "\n" << table;
+  }
+  EXPECT_EQ(table.find("warning"), std::string::npos) << table;
+}
+
+TEST(Report, JsonMatchesResult) {
+  const Fixture f = Make();
+  const nlohmann::json j = nlohmann::json::parse(FormatReportJson(f.result, {"gt.txt", "est.txt"}));
+  EXPECT_EQ(j["schema"], "dynorb.eval/1");
+  EXPECT_EQ(j["ate_m"]["count"], f.result.ate.stats.count);
+  EXPECT_DOUBLE_EQ(j["ate_m"]["rmse"].get<double>(), f.result.ate.stats.rmse);
+  EXPECT_DOUBLE_EQ(j["rpe"]["trans_m"]["rmse"].get<double>(), f.result.rpe.trans_m.rmse);
+  EXPECT_DOUBLE_EQ(j["coverage"]["fraction"].get<double>(), f.result.coverage.fraction);
+  EXPECT_EQ(j["alignment"]["mode"], "se3");
+  EXPECT_EQ(j["inputs"]["estimate_poses"], f.result.est_poses);
+  EXPECT_TRUE(j["warnings"].empty());
+}
+
+TEST(Report, LowCoverageWarnsInTable) {
+  Fixture f = Make(0.0);
+  Trajectory est;
+  for (size_t k = 0; k < f.pair.estimate.size(); ++k) {
+    if (k < 200 || k > 300) est.push_back(f.pair.estimate[k]);
+  }
+  const EvalResult r = EvaluateTrajectories(f.pair.groundtruth, est, EvalOptions());
+  EXPECT_NE(FormatReportTable(r, {"g", "e"}).find("warning: coverage"), std::string::npos);
+}
+
+TEST(Plot, NiceTicks) {
+  const std::vector<double> t = NiceTicks(-0.37, 1.21, 6);
+  ASSERT_FALSE(t.empty());
+  EXPECT_NEAR(t.front(), -0.2, 1e-12);
+  EXPECT_NEAR(t[1] - t[0], 0.2, 1e-12);
+  EXPECT_LE(t.back(), 1.21);
+  EXPECT_TRUE(NiceTicks(1.0, 1.0, 5).empty());
+}
+
+TEST(Plot, PngAndSvgDrawTheSameLayout) {
+  const Fixture f = Make();
+  const PlotCanvas canvas = LayoutEvalFigure(f.pair.groundtruth, f.pair.estimate, f.result);
+  EXPECT_GE(canvas.lines.size(), 5u);  // 2 x (gt + estimate pieces) + error + legend samples
+  EXPECT_GE(canvas.texts.size(), 20u);
+  for (const PlotPolyline& line : canvas.lines) {
+    for (const Eigen::Vector2d& p : line.points_px) {
+      EXPECT_TRUE(p.x() >= 0 && p.x() <= canvas.width_px && p.y() >= 0 && p.y() <= canvas.height_px);
+    }
+  }
+  const std::vector<unsigned char> png = RenderPlotPng(canvas);
+  const cv::Mat image = cv::imdecode(png, cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  EXPECT_EQ(image.cols, canvas.width_px);
+  EXPECT_EQ(image.rows, canvas.height_px);
+  const std::string svg = RenderPlotSvg(canvas);
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  size_t polylines = 0;
+  for (size_t at = svg.find("<polyline"); at != std::string::npos; at = svg.find("<polyline", at + 1)) ++polylines;
+  EXPECT_EQ(polylines, canvas.lines.size());
+  EXPECT_NE(svg.find("top view (x-y)"), std::string::npos);
+}
+
+TEST(TrajectoryGenerator, DeterministicAndAsSpecified) {
+  TrajectoryPairOptions o;
+  o.seed = 42;
+  o.duration_s = 10.0;
+  o.noise_m = 0.0;
+  o.drift_m_per_s = 0.0;
+  o.scale = 0.5;
+  const TrajectoryPair a = GenerateTrajectoryPair(o), b = GenerateTrajectoryPair(o);
+  ASSERT_EQ(a.estimate.size(), b.estimate.size());
+  for (size_t k = 0; k < a.estimate.size(); ++k) {
+    EXPECT_EQ(a.estimate[k].timestamp_s, b.estimate[k].timestamp_s);
+    EXPECT_EQ(a.estimate[k].world_from_cam.translation, b.estimate[k].world_from_cam.translation);
+  }
+  EXPECT_EQ(a.groundtruth.size(), 301u);
+  EXPECT_LT(a.estimate.size(), a.groundtruth.size());
+  EvalOptions eo;
+  eo.alignment = AlignmentMode::kSim3;
+  const EvalResult r = EvaluateTrajectories(a.groundtruth, a.estimate, eo);
+  EXPECT_NEAR(r.ate.gt_from_est.scale, 2.0, 1e-9);  // no noise: exact
+  EXPECT_LT(r.ate.stats.rmse, 1e-9);
+  EXPECT_GT(r.ate.stats.count, 280);
+}
+
+}  // namespace
+}  // namespace dynorb

@@ -1,0 +1,91 @@
+#include "dynorb/eval/rpe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "dynorb/core/error.h"
+#include "dynorb/eval/association.h"
+
+namespace dynorb {
+namespace {
+
+constexpr double kDegPerRad = 57.295779513082320876798;
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  const double upper = values[mid];
+  if (values.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(values.begin(), values.begin() + mid);
+  return 0.5 * (lower + upper);
+}
+
+}  // namespace
+
+void RpeOptions::Validate() const {
+  if (!(delta_s > 0.0) || !std::isfinite(delta_s)) {
+    throw InputError("--rpe-delta must be a positive number of seconds, got " + std::to_string(delta_s));
+  }
+  if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
+  if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError("RPE scale must be positive");
+}
+
+size_t ClosestIndex(const std::vector<double>& sorted_stamps, double t) {
+  const auto it = std::lower_bound(sorted_stamps.begin(), sorted_stamps.end(), t);
+  if (it == sorted_stamps.begin()) return 0;
+  if (it == sorted_stamps.end()) return sorted_stamps.size() - 1;
+  const size_t hi = static_cast<size_t>(it - sorted_stamps.begin());
+  return std::abs(t - sorted_stamps[hi - 1]) <= std::abs(sorted_stamps[hi] - t) ? hi - 1 : hi;
+}
+
+RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptions& options) {
+  options.Validate();
+  RpeResult result;
+  if (gt.size() < 2 || est.size() < 2) return result;
+  const std::vector<double> gt_stamps = Stamps(gt);
+  const std::vector<double> est_stamps = Stamps(est);
+  std::vector<double> gt_intervals(gt_stamps.size() - 1);
+  for (size_t k = 0; k + 1 < gt_stamps.size(); ++k) gt_intervals[k] = gt_stamps[k + 1] - gt_stamps[k];
+  result.gt_max_time_difference_s = 2.0 * Median(std::move(gt_intervals));
+
+  const size_t last = est_stamps.size() - 1;
+  std::vector<double> trans, rot_deg, trans_paper;
+  for (size_t i = 0; i < est_stamps.size(); ++i) {
+    const size_t j = ClosestIndex(est_stamps, est_stamps[i] + options.delta_s);
+    if (j == last) continue;
+    const double t_i = est_stamps[i] + options.offset_s;
+    const double t_j = est_stamps[j] + options.offset_s;
+    const size_t gi = ClosestIndex(gt_stamps, t_i);
+    const size_t gj = ClosestIndex(gt_stamps, t_j);
+    if (std::abs(gt_stamps[gi] - t_i) > result.gt_max_time_difference_s ||
+        std::abs(gt_stamps[gj] - t_j) > result.gt_max_time_difference_s) {
+      continue;
+    }
+    Rigid3d a = est[i].world_from_cam.Inverse() * est[j].world_from_cam;
+    a.translation *= options.scale;
+    const Rigid3d b = gt[gi].world_from_cam.Inverse() * gt[gj].world_from_cam;
+    const Rigid3d b_inv = b.Inverse();
+    const Rigid3d e_script = a * b_inv;
+    const Rigid3d e_paper = b_inv * a;
+    RpePair pair;
+    pair.est_i = static_cast<int>(i);
+    pair.est_j = static_cast<int>(j);
+    pair.gt_i = static_cast<int>(gi);
+    pair.gt_j = static_cast<int>(gj);
+    pair.trans_m = e_script.translation.norm();
+    pair.rot_rad = RotationAngleRad(e_script.rotation);
+    pair.trans_paper_form_m = e_paper.translation.norm();
+    result.pairs.push_back(pair);
+    trans.push_back(pair.trans_m);
+    rot_deg.push_back(pair.rot_rad * kDegPerRad);
+    trans_paper.push_back(pair.trans_paper_form_m);
+  }
+  result.trans_m = Summarize(std::move(trans));
+  result.rot_deg = Summarize(std::move(rot_deg));
+  result.trans_paper_form_m = Summarize(std::move(trans_paper));
+  return result;
+}
+
+}  // namespace dynorb
