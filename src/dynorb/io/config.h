@@ -32,7 +32,10 @@ struct CameraConfig {
   double th_depth = 40.0;
   // Raw depth units per metre (DepthMapFactor); mirrors dataset.depth_factor.
   double depth_map_factor = 5000.0;
-  // Colour order of the input images: true = RGB, false = BGR (Camera.RGB 1/0).
+  // ORB-SLAM2's Camera.RGB flag (1 = treat images as RGB, 0 = BGR when converting to grey).
+  // dynorb frames are always BGR as decoded by OpenCV (RgbdFrame::rgb); ORB-SLAM2 also loads BGR
+  // but its TUM files say 1, so it converts with swapped R/B weights. Kept for compatibility:
+  // honour it only to reproduce ORB-SLAM2's grey images exactly.
   bool rgb_order = true;
 
   double baseline_m() const { return bf / camera.fx; }

@@ -329,7 +329,6 @@ void ConfigSchema::Impl::LoadDocument(const YAML::Node& doc, const std::string& 
     if (!ignored) throw InputError(where + ": unknown key '" + key + "'");
   }
   Commit(pending);
-  RunFinalizers(source);
 }
 
 ConfigSchema::ConfigSchema() : impl_(std::make_unique<Impl>()) {
@@ -356,7 +355,37 @@ ConfigSection& ConfigSchema::Section(const std::string& name, const std::string&
 
 void ConfigSchema::IgnorePrefix(const std::string& prefix) { impl_->ignored_prefixes.push_back(prefix); }
 
+namespace {
+
+std::string ReadConfigFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError("config file not found: " + path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open config file " + path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
 void ConfigSchema::LoadString(const std::string& yaml_text, const std::string& source_name) {
+  ParseAndAssign(yaml_text, source_name);
+  impl_->RunFinalizers(source_name);
+}
+
+void ConfigSchema::Load(const std::string& path) { LoadString(ReadConfigFile(path), path); }
+
+void ConfigSchema::LoadFiles(const std::vector<std::string>& paths) {
+  std::string sources;
+  for (const std::string& path : paths) {
+    ParseAndAssign(ReadConfigFile(path), path);
+    sources += (sources.empty() ? "" : " + ") + path;
+  }
+  impl_->RunFinalizers(sources);
+}
+
+void ConfigSchema::ParseAndAssign(const std::string& yaml_text, const std::string& source_name) {
   YAML::Node doc;
   try {
     doc = YAML::Load(NormalizeOpenCvYaml(yaml_text));
@@ -370,16 +399,6 @@ void ConfigSchema::LoadString(const std::string& yaml_text, const std::string& s
   } catch (const YAML::Exception& e) {
     throw InputError(source_name + ": invalid YAML: " + e.msg);
   }
-}
-
-void ConfigSchema::Load(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError("config file not found: " + path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open config file " + path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  LoadString(text.str(), path);
 }
 
 void ConfigSchema::Override(const std::string& path, const std::string& value_text) {

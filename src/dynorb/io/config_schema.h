@@ -87,7 +87,10 @@ class ConfigSchema {
   // file keep their values. ORB-SLAM2/OpenCV files are accepted: a leading "%YAML:1.0" directive
   // and top-level "Key:value" lines without a space after the colon. Throws InputError.
   void Load(const std::string& path);
-  // Same, from text; `source_name` is used in error messages in place of a file name.
+  // Loads several files in order (later files override earlier ones) and runs the finalizers
+  // once at the end, so e.g. a camera file and a system file can be split.
+  void LoadFiles(const std::vector<std::string>& paths);
+  // Same as Load(path), from text; `source_name` replaces the file name in error messages.
   void LoadString(const std::string& yaml_text, const std::string& source_name);
   // Sets one field from text, e.g. Override("dataset.depth_factor", "1000") or
   // Override("Camera.fx", "500"). For command-line overrides. Runs the finalizers.
@@ -102,6 +105,8 @@ class ConfigSchema {
   void Write(const std::string& path) const;
 
  private:
+  void ParseAndAssign(const std::string& yaml_text, const std::string& source_name);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

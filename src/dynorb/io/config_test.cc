@@ -191,6 +191,29 @@ TEST_F(ConfigTest, DepthFactorKeysAreOneQuantity) {
       "disagree");
 }
 
+TEST_F(ConfigTest, CrLfLineEndings) {
+  std::string text = kOrbSlam2Style;
+  std::string crlf;
+  for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  const SystemConfig c = LoadSystemConfig(Write("crlf.yaml", crlf));
+  ExpectSameCamera(c.camera.camera, TumFreiburg1Camera());
+}
+
+TEST_F(ConfigTest, SplitFilesLoadTogether) {
+  // A system file without camera keys cannot load alone (the camera must be valid), but camera
+  // file + system file can: finalizers run once after all files; later files override.
+  const std::string system = Write("system.yaml", "ORBextractor.nFeatures: 1500\ndataset:\n  offset_s: 0.01\n");
+  ExpectInputError([&] { LoadSystemConfig(system); }, "Camera.fx must be > 0");
+  SystemConfig c;
+  ConfigSchema schema;
+  BindSystemConfig(&c, &schema);
+  schema.LoadFiles({DYNORB_SOURCE_DIR "/config/tum_fr3.yaml", system});
+  EXPECT_EQ(c.camera.camera.fx, 535.4);
+  EXPECT_EQ(c.orb.n_features, 1500);
+  EXPECT_EQ(c.dataset.offset_s, 0.01);
+  EXPECT_EQ(c.dataset.max_difference_s, 0.02);
+}
+
 TEST_F(ConfigTest, WriteThenReadRoundTrips) {
   SystemConfig c = LoadSystemConfig(DYNORB_SOURCE_DIR "/config/tum_fr1.yaml");
   c.camera.camera.fx = 1.0 / 3.0;  // needs 17 significant digits

@@ -43,6 +43,12 @@ Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOption
   return trajectory;
 }
 
+Trajectory ReadTumGroundTruth(const std::string& path) {
+  TrajectoryReadOptions options;
+  options.keep_last_of_duplicate_timestamps = true;
+  return ReadTumTrajectory(path, options);
+}
+
 std::string FormatTumPoseLine(const StampedPose& pose) {
   const Eigen::Vector3d& t = pose.world_from_cam.translation;
   const Eigen::Quaterniond& q = pose.world_from_cam.rotation;

@@ -23,6 +23,10 @@ struct TrajectoryReadOptions {
 // quaternion far from unit norm (|q| not in [0.9, 1.1]), non-increasing timestamps, empty file.
 Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options = {});
 
+// Reads a dataset's ground-truth file (TUM groundtruth.txt): ReadTumTrajectory with
+// keep_last_of_duplicate_timestamps = true, because official TUM files contain duplicate stamps.
+Trajectory ReadTumGroundTruth(const std::string& path);
+
 // Writes atomically with full double precision (timestamps to 1e-6 s, poses to 1e-9).
 void WriteTumTrajectory(const std::string& path, const Trajectory& trajectory);
 std::string FormatTumPoseLine(const StampedPose& pose);

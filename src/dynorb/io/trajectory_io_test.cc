@@ -85,6 +85,7 @@ TEST_F(TrajectoryIoTest, DuplicateTimestampsCanKeepTheLastPose) {
   ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(r[1].timestamp_s, 2.0);
   EXPECT_EQ(r[1].world_from_cam.translation.x(), 2.0);
+  EXPECT_EQ(ReadTumGroundTruth(path).size(), 3u);
   // Decreasing stamps are still rejected.
   EXPECT_THROW(ReadTumTrajectory(Write("dec.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n"), options),
                InputError);

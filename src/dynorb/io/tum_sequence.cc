@@ -55,11 +55,7 @@ TumSequence::TumSequence(std::string folder, TumSequenceOptions options)
     }
   }
   const fs::path gt = dir / "groundtruth.txt";
-  if (options_.load_ground_truth && fs::exists(gt, ec)) {
-    TrajectoryReadOptions gt_options;
-    gt_options.keep_last_of_duplicate_timestamps = true;  // the official TUM files have some
-    ground_truth_ = ReadTumTrajectory(gt.string(), gt_options);
-  }
+  if (options_.load_ground_truth && fs::exists(gt, ec)) ground_truth_ = ReadTumGroundTruth(gt.string());
 }
 
 std::string TumSequence::ResolvePath(const std::string& relative) const {
