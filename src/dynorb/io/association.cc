@@ -49,7 +49,8 @@ std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<dou
   std::iota(order.begin(), order.end(), size_t{0});
   std::vector<double> shifted(second.size());
   for (size_t j = 0; j < second.size(); ++j) shifted[j] = second[j] + options.offset_s;
-  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return shifted[x] < shifted[y]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t x, size_t y) { return shifted[x] < shifted[y]; });
 
   std::vector<Candidate> candidates;
   for (size_t i = 0; i < first.size(); ++i) {
@@ -86,11 +87,13 @@ std::vector<StampedPath> ReadImageList(const std::string& path) {
   std::vector<StampedPath> list;
   ForEachDataLine(path, [&](int line_no, const std::vector<std::string>& fields) {
     if (fields.size() != 2) {
-      throw InputErrorAt(path, line_no,
-                         "expected 'timestamp path', got " + std::to_string(fields.size()) + " fields");
+      throw InputErrorAt(
+          path, line_no,
+          "expected 'timestamp path', got " + std::to_string(fields.size()) + " fields");
     }
     const double stamp = ParseDouble(fields[0], path, line_no);
-    CheckIncreasing(path, line_no, list.empty() ? 0.0 : list.back().timestamp_s, stamp, !list.empty());
+    CheckIncreasing(path, line_no, list.empty() ? 0.0 : list.back().timestamp_s, stamp,
+                    !list.empty());
     list.push_back({stamp, fields[1]});
   });
   return list;
@@ -131,8 +134,9 @@ std::vector<AssociatedPair> AssociateImageLists(const std::vector<StampedPath>& 
   }
   if (pairs.empty()) {
     throw InputError("no rgb/depth associations found within max_difference_s = " +
-                     std::to_string(options.max_difference_s) + " s (" + std::to_string(rgb.size()) +
-                     " rgb, " + std::to_string(depth.size()) + " depth stamps)");
+                     std::to_string(options.max_difference_s) + " s (" +
+                     std::to_string(rgb.size()) + " rgb, " + std::to_string(depth.size()) +
+                     " depth stamps)");
   }
   return pairs;
 }

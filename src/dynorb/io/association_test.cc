@@ -1,11 +1,11 @@
 #include "dynorb/io/association.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <tuple>
-
-#include <gtest/gtest.h>
 
 #include "dynorb/core/error.h"
 

@@ -18,7 +18,8 @@ void RequirePositive(double value, const char* key) {
 void CameraConfig::Validate() const {
   RequirePositive(camera.fx, "Camera.fx");
   RequirePositive(camera.fy, "Camera.fy");
-  if (!std::isfinite(camera.cx) || !std::isfinite(camera.cy)) throw InputError("Camera.cx/cy must be finite");
+  if (!std::isfinite(camera.cx) || !std::isfinite(camera.cy))
+    throw InputError("Camera.cx/cy must be finite");
   for (double k : {camera.k1, camera.k2, camera.p1, camera.p2, camera.k3}) {
     if (!std::isfinite(k)) throw InputError("Camera distortion coefficients must be finite");
   }
@@ -40,7 +41,8 @@ void OrbConfig::Validate() const {
   RequirePositive(min_th_fast, "ORBextractor.minThFAST");
   if (min_th_fast > ini_th_fast) {
     throw InputError("ORBextractor.minThFAST (" + std::to_string(min_th_fast) +
-                     ") must not exceed ORBextractor.iniThFAST (" + std::to_string(ini_th_fast) + ")");
+                     ") must not exceed ORBextractor.iniThFAST (" + std::to_string(ini_th_fast) +
+                     ")");
   }
 }
 
@@ -75,7 +77,8 @@ void BindSystemConfig(SystemConfig* config, ConfigSchema* schema) {
       .Add("depth_factor", &ds.depth_factor, "raw depth units per metre (= DepthMapFactor)")
       .Add("max_difference_s", &ds.max_difference_s, "rgb/depth association window [s]")
       .Add("offset_s", &ds.offset_s, "added to depth stamps before association [s]")
-      .Add("associations_file", &ds.associations_file, "explicit associations file; empty = associate")
+      .Add("associations_file", &ds.associations_file,
+           "explicit associations file; empty = associate")
       .Add("load_ground_truth", &ds.load_ground_truth, "read groundtruth.txt when present")
       .Add("check_images_exist", &ds.check_images_exist, "stat every image when opening")
       .OnLoaded([config, schema] {
@@ -84,7 +87,8 @@ void BindSystemConfig(SystemConfig* config, ConfigSchema* schema) {
         if (camera_set && dataset_set &&
             config->camera.depth_map_factor != config->dataset.depth_factor) {
           throw InputError("DepthMapFactor (" + std::to_string(config->camera.depth_map_factor) +
-                           ") and dataset.depth_factor (" + std::to_string(config->dataset.depth_factor) +
+                           ") and dataset.depth_factor (" +
+                           std::to_string(config->dataset.depth_factor) +
                            ") disagree; set only one");
         }
         if (dataset_set && !camera_set) {

@@ -34,15 +34,20 @@
 
 namespace dynorb {
 
+// The value types a field can have (one per ConfigSection::Add overload).
+enum class ConfigValueType { kDouble, kInt, kBool, kString, kDoubleList, kStringList };
+
 class ConfigSection {
  public:
   // Declares `key` bound to *value; the current *value is the default. Returns *this to chain.
   ConfigSection& Add(const std::string& key, double* value, const std::string& help);
   ConfigSection& Add(const std::string& key, int* value, const std::string& help);
-  ConfigSection& Add(const std::string& key, bool* value, const std::string& help);  // true/false/1/0
+  ConfigSection& Add(const std::string& key, bool* value,
+                     const std::string& help);  // true/false/1/0
   ConfigSection& Add(const std::string& key, std::string* value, const std::string& help);
   ConfigSection& Add(const std::string& key, std::vector<double>* value, const std::string& help);
-  ConfigSection& Add(const std::string& key, std::vector<std::string>* value, const std::string& help);
+  ConfigSection& Add(const std::string& key, std::vector<std::string>* value,
+                     const std::string& help);
   // Runs after every successful Load() (in registration order), e.g. to call Validate().
   ConfigSection& OnLoaded(std::function<void()> fn);
 
@@ -50,7 +55,7 @@ class ConfigSection {
 
  private:
   friend class ConfigSchema;
-  enum class Type { kDouble, kInt, kBool, kString, kDoubleList, kStringList };
+  using Type = ConfigValueType;
   struct Field {
     std::string key;
     Type type;

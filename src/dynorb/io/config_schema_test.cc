@@ -16,7 +16,8 @@ struct DetectorOptions {
   std::vector<std::string> dynamic_classes = {"person"};
   std::vector<double> mean = {0.0, 0.0, 0.0};
   void Validate() const {
-    if (score_threshold < 0.0 || score_threshold > 1.0) throw InputError("detector.score_threshold out of [0,1]");
+    if (score_threshold < 0.0 || score_threshold > 1.0)
+      throw InputError("detector.score_threshold out of [0,1]");
   }
 };
 

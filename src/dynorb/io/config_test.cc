@@ -1,9 +1,9 @@
 #include "dynorb/io/config.h"
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "dynorb/core/error.h"
 
@@ -40,8 +40,9 @@ void ExpectSameCamera(const PinholeCamera& a, const PinholeCamera& b) {
 class ConfigTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dynorb_config_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("dynorb_config_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -123,8 +124,9 @@ TEST_F(ConfigTest, ShippedTumConfigsLoadWithExactNumbers) {
     EXPECT_EQ(c.dataset.max_difference_s, 0.02);
     EXPECT_EQ(c.dataset.offset_s, 0.0);
   }
-  EXPECT_NEAR(LoadSystemConfig(DYNORB_SOURCE_DIR "/config/tum_fr3.yaml").camera.close_depth_threshold_m(),
-              40.0 * 40.0 / 535.4, 1e-12);
+  EXPECT_NEAR(
+      LoadSystemConfig(DYNORB_SOURCE_DIR "/config/tum_fr3.yaml").camera.close_depth_threshold_m(),
+      40.0 * 40.0 / 535.4, 1e-12);
 }
 
 TEST_F(ConfigTest, OrbSlam2SettingsFileLoads) {
@@ -140,7 +142,8 @@ TEST_F(ConfigTest, OrbSlam2SettingsFileLoads) {
 }
 
 TEST_F(ConfigTest, UnknownKeysNameKeyAndFile) {
-  const std::string base = "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
+  const std::string base =
+      "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
   const std::string typo = Write("typo.yaml", base + "Camera.fz: 500\n");
   ExpectInputError([&] { LoadSystemConfig(typo); }, typo + ":5: unknown key 'Camera.fz'");
   const std::string in_section = Write("section.yaml", base + "dataset:\n  depth_factr: 1000\n");
@@ -154,13 +157,16 @@ TEST_F(ConfigTest, UnknownKeysNameKeyAndFile) {
 }
 
 TEST_F(ConfigTest, InvalidInputs) {
-  const std::string base = "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
-  ExpectInputError([&] { LoadSystemConfig((dir_ / "missing.yaml").string()); }, "config file not found");
+  const std::string base =
+      "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
+  ExpectInputError([&] { LoadSystemConfig((dir_ / "missing.yaml").string()); },
+                   "config file not found");
   const std::string broken = Write("broken.yaml", base + "Camera.cx: [1, 2\n");
   ExpectInputError([&] { LoadSystemConfig(broken); }, broken + ":");
   ExpectInputError([&] { LoadSystemConfig(broken); }, "invalid YAML");
-  ExpectInputError([&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.nFeatures: 1000.5\n")); },
-                   "a.yaml:5: 'ORBextractor.nFeatures' expects an integer, got '1000.5'");
+  ExpectInputError(
+      [&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.nFeatures: 1000.5\n")); },
+      "a.yaml:5: 'ORBextractor.nFeatures' expects an integer, got '1000.5'");
   ExpectInputError([&] { LoadSystemConfig(Write("b.yaml", base + "Camera.cx: abc\n")); },
                    "b.yaml:5: 'Camera.cx' expects a number, got 'abc'");
   ExpectInputError([&] { LoadSystemConfig(Write("c.yaml", base + "Camera.RGB: maybe\n")); },
@@ -171,23 +177,31 @@ TEST_F(ConfigTest, InvalidInputs) {
                    "section 'dataset' must be a mapping");
   ExpectInputError([&] { LoadSystemConfig(Write("f.yaml", "- a\n- b\n")); }, "expected a mapping");
   // Validation failures name the file.
-  ExpectInputError([&] { LoadSystemConfig(Write("g.yaml", base + "ORBextractor.minThFAST: 30\n")); },
-                   "g.yaml: ORBextractor.minThFAST (30) must not exceed ORBextractor.iniThFAST (20)");
-  ExpectInputError([&] { LoadSystemConfig(Write("h.yaml", "Camera.fy: 500\n")); }, "Camera.fx must be > 0");
-  ExpectInputError([&] { LoadSystemConfig(Write("i.yaml", base + "dataset:\n  max_difference_s: 0\n")); },
-                   "max_difference_s must be > 0");
+  ExpectInputError(
+      [&] { LoadSystemConfig(Write("g.yaml", base + "ORBextractor.minThFAST: 30\n")); },
+      "g.yaml: ORBextractor.minThFAST (30) must not exceed ORBextractor.iniThFAST (20)");
+  ExpectInputError([&] { LoadSystemConfig(Write("h.yaml", "Camera.fy: 500\n")); },
+                   "Camera.fx must be > 0");
+  ExpectInputError(
+      [&] { LoadSystemConfig(Write("i.yaml", base + "dataset:\n  max_difference_s: 0\n")); },
+      "max_difference_s must be > 0");
 }
 
 TEST_F(ConfigTest, DepthFactorKeysAreOneQuantity) {
-  const std::string base = "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
+  const std::string base =
+      "Camera.fx: 500\nCamera.fy: 500\nCamera.width: 640\nCamera.height: 480\n";
   SystemConfig c = LoadSystemConfig(Write("a.yaml", base + "DepthMapFactor: 1000\n"));
   EXPECT_EQ(c.dataset.depth_factor, 1000.0);
   c = LoadSystemConfig(Write("b.yaml", base + "dataset:\n  depth_factor: 1000\n"));
   EXPECT_EQ(c.camera.depth_map_factor, 1000.0);
-  c = LoadSystemConfig(Write("c.yaml", base + "DepthMapFactor: 1000\ndataset:\n  depth_factor: 1000.0\n"));
+  c = LoadSystemConfig(
+      Write("c.yaml", base + "DepthMapFactor: 1000\ndataset:\n  depth_factor: 1000.0\n"));
   EXPECT_EQ(c.camera.depth_map_factor, 1000.0);
   ExpectInputError(
-      [&] { LoadSystemConfig(Write("d.yaml", base + "DepthMapFactor: 5000\ndataset:\n  depth_factor: 1000\n")); },
+      [&] {
+        LoadSystemConfig(
+            Write("d.yaml", base + "DepthMapFactor: 5000\ndataset:\n  depth_factor: 1000\n"));
+      },
       "disagree");
 }
 
@@ -202,7 +216,8 @@ TEST_F(ConfigTest, CrLfLineEndings) {
 TEST_F(ConfigTest, SplitFilesLoadTogether) {
   // A system file without camera keys cannot load alone (the camera must be valid), but camera
   // file + system file can: finalizers run once after all files; later files override.
-  const std::string system = Write("system.yaml", "ORBextractor.nFeatures: 1500\ndataset:\n  offset_s: 0.01\n");
+  const std::string system =
+      Write("system.yaml", "ORBextractor.nFeatures: 1500\ndataset:\n  offset_s: 0.01\n");
   ExpectInputError([&] { LoadSystemConfig(system); }, "Camera.fx must be > 0");
   SystemConfig c;
   ConfigSchema schema;

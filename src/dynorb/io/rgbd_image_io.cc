@@ -2,10 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
-#include <vector>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "dynorb/core/error.h"
 
@@ -29,7 +28,8 @@ cv::Mat ReadImage(const std::string& path, int flags, const char* what) {
 
 std::string DescribeType(const cv::Mat& m) {
   static const char* kDepthNames[] = {"8U", "8S", "16U", "16S", "32S", "32F", "64F", "16F"};
-  return std::string(kDepthNames[m.depth()]) + " with " + std::to_string(m.channels()) + " channel(s)";
+  return std::string(kDepthNames[m.depth()]) + " with " + std::to_string(m.channels()) +
+         " channel(s)";
 }
 
 }  // namespace
@@ -73,7 +73,8 @@ cv::Mat DepthRawToMetres(const cv::Mat& raw, double depth_factor) {
 cv::Mat LoadDepthImageMetres(const std::string& path, double depth_factor) {
   const cv::Mat raw = ReadImage(path, cv::IMREAD_UNCHANGED, "depth");
   if (raw.type() != CV_16UC1) {
-    throw InputError("depth image must be 16-bit single channel: " + path + " is " + DescribeType(raw));
+    throw InputError("depth image must be 16-bit single channel: " + path + " is " +
+                     DescribeType(raw));
   }
   return DepthRawToMetres(raw, depth_factor);
 }

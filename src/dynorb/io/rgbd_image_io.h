@@ -3,9 +3,8 @@
 // thread-safe.
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace dynorb {
 

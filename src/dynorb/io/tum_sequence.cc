@@ -55,7 +55,8 @@ TumSequence::TumSequence(std::string folder, TumSequenceOptions options)
     }
   }
   const fs::path gt = dir / "groundtruth.txt";
-  if (options_.load_ground_truth && fs::exists(gt, ec)) ground_truth_ = ReadTumGroundTruth(gt.string());
+  if (options_.load_ground_truth && fs::exists(gt, ec))
+    ground_truth_ = ReadTumGroundTruth(gt.string());
 }
 
 std::string TumSequence::ResolvePath(const std::string& relative) const {

@@ -10,11 +10,10 @@
 // Thread-safety: Frame() is const and may be called concurrently; Next()/Rewind() are not.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "dynorb/core/trajectory.h"
 #include "dynorb/io/association.h"

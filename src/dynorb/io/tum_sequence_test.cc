@@ -1,10 +1,10 @@
 #include "dynorb/io/tum_sequence.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "dynorb/core/error.h"
@@ -48,14 +48,16 @@ class TumSequenceTest : public ::testing::Test {
   static cv::Mat RgbImage(int k) {
     cv::Mat rgb(kHeight, kWidth, CV_8UC3);
     for (int v = 0; v < kHeight; ++v) {
-      for (int u = 0; u < kWidth; ++u) rgb.at<cv::Vec3b>(v, u) = cv::Vec3b(10 * k + u, 20 + v, 200 - k);
+      for (int u = 0; u < kWidth; ++u)
+        rgb.at<cv::Vec3b>(v, u) = cv::Vec3b(10 * k + u, 20 + v, 200 - k);
     }
     return rgb;
   }
   static cv::Mat DepthRaw(int k) {
     cv::Mat raw(kHeight, kWidth, CV_16UC1);
     for (int v = 0; v < kHeight; ++v) {
-      for (int u = 0; u < kWidth; ++u) raw.at<uint16_t>(v, u) = static_cast<uint16_t>(1000 * k + 100 * v + u);
+      for (int u = 0; u < kWidth; ++u)
+        raw.at<uint16_t>(v, u) = static_cast<uint16_t>(1000 * k + 100 * v + u);
     }
     raw.at<uint16_t>(0, 0) = 0;      // no measurement
     raw.at<uint16_t>(1, 1) = 5000;   // exactly 1 m at factor 5000
@@ -107,7 +109,8 @@ TEST_F(TumSequenceTest, StreamsFramesWithExactDepth) {
     const cv::Mat raw = DepthRaw(k);
     for (int v = 0; v < kHeight; ++v) {
       for (int u = 0; u < kWidth; ++u) {
-        ASSERT_EQ(frame.depth_m.at<float>(v, u), static_cast<float>(raw.at<uint16_t>(v, u) / 5000.0));
+        ASSERT_EQ(frame.depth_m.at<float>(v, u),
+                  static_cast<float>(raw.at<uint16_t>(v, u) / 5000.0));
       }
     }
     EXPECT_EQ(frame.depth_m.at<float>(0, 0), 0.0f);
@@ -190,15 +193,18 @@ TEST_F(TumSequenceTest, BadAssociationsAndGroundTruth) {
   ExpectInputError([&] { TumSequence s(folder(), options); }, "associations file not found");
   options.associations_file = "assoc.txt";
   WriteText("assoc.txt", "1.0 rgb/0.png 1.0\n");
-  ExpectInputError([&] { TumSequence s(folder(), options); }, "assoc.txt:1: expected 'rgb_timestamp");
+  ExpectInputError([&] { TumSequence s(folder(), options); },
+                   "assoc.txt:1: expected 'rgb_timestamp");
   WriteText("assoc.txt", "# nothing\n");
   ExpectInputError([&] { TumSequence s(folder(), options); }, "no associations");
   WriteText("assoc.txt", "2.0 rgb/0.png 2.0 depth/0.png\n1.0 rgb/1.png 1.0 depth/1.png\n");
-  ExpectInputError([&] { TumSequence s(folder(), options); }, "assoc.txt:2: timestamps are not increasing");
+  ExpectInputError([&] { TumSequence s(folder(), options); },
+                   "assoc.txt:2: timestamps are not increasing");
   WriteText("groundtruth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n2.0 5 0 0 0 0 0 1\n");
   EXPECT_EQ(TumSequence(folder()).ground_truth().back().world_from_cam.translation.x(), 5.0);
   WriteText("groundtruth.txt", "1.0 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
-  ExpectInputError([&] { TumSequence s(folder()); }, "groundtruth.txt:2: timestamps are not increasing");
+  ExpectInputError([&] { TumSequence s(folder()); },
+                   "groundtruth.txt:2: timestamps are not increasing");
   WriteText("groundtruth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0\n");
   ExpectInputError([&] { TumSequence s(folder()); }, "groundtruth.txt:2: expected 8 values");
   TumSequenceOptions no_gt;
@@ -319,7 +325,8 @@ TEST(TumRealData, AssociationFilesOfFourSequences) {
     ASSERT_TRUE(seq.HasGroundTruth()) << name;
     const size_t gt_lines = CountDataLines(folder + "/groundtruth.txt");
     EXPECT_EQ(seq.ground_truth().size(),
-              name == "rgbd_dataset_freiburg3_walking_static" ? gt_lines - 1 : gt_lines) << name;
+              name == "rgbd_dataset_freiburg3_walking_static" ? gt_lines - 1 : gt_lines)
+        << name;
     EXPECT_LT(seq.ground_truth().front().timestamp_s, seq.entries().front().rgb_timestamp_s + 1.0);
     EXPECT_GT(seq.ground_truth().back().timestamp_s, seq.entries().back().rgb_timestamp_s - 1.0);
     // Re-associating the real stamps with associate.py's rule reproduces the file's pairs.
