@@ -1,0 +1,292 @@
+#include "dynorb/synth/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/LU>
+#include <opencv2/imgproc.hpp>
+
+namespace dynorb::synth {
+namespace {
+
+// Bilinear sample of a CV_32FC2 image with clamped coordinates.
+cv::Vec2f SampleBilinear(const cv::Mat& img, double x, double y) {
+  x = std::clamp(x, 0.0, img.cols - 1.0);
+  y = std::clamp(y, 0.0, img.rows - 1.0);
+  const int x0 = std::min(static_cast<int>(x), img.cols - 2 < 0 ? 0 : img.cols - 2);
+  const int y0 = std::min(static_cast<int>(y), img.rows - 2 < 0 ? 0 : img.rows - 2);
+  const int x1 = std::min(x0 + 1, img.cols - 1), y1 = std::min(y0 + 1, img.rows - 1);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const auto* r0 = img.ptr<cv::Vec2f>(y0);
+  const auto* r1 = img.ptr<cv::Vec2f>(y1);
+  return (r0[x0] * (1 - fx) + r0[x1] * fx) * (1 - fy) + (r1[x0] * (1 - fx) + r1[x1] * fx) * fy;
+}
+
+}  // namespace
+
+Renderer::Renderer(const PinholeCamera& camera, int supersample) : camera_(camera), supersample_(supersample) {
+  CV_Assert(supersample >= 1 && supersample <= 4 && camera.width > 0 && camera.height > 0);
+}
+
+void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
+                       std::vector<Prepared>* prepared) const {
+  // Pixel centre u at output resolution is at scale * u + (scale - 1) / 2 at this scale.
+  const double fx = camera_.fx * scale, fy = camera_.fy * scale;
+  const double cx = camera_.cx * scale + 0.5 * (scale - 1), cy = camera_.cy * scale + 0.5 * (scale - 1);
+  Eigen::Matrix3d k;
+  k << fx, 0, cx, 0, fy, cy, 0, 0, 1;
+  const Eigen::Matrix3d rot = cam_from_world.rotation.toRotationMatrix();
+  prepared->resize(quads.size());
+  for (size_t i = 0; i < quads.size(); ++i) {
+    const DrawQuad& q = quads[i];
+    Prepared& p = (*prepared)[i];
+    p.visible = false;
+    p.polygon.clear();
+    const Eigen::Vector3d o = cam_from_world * q.origin;
+    const Eigen::Vector3d u = rot * q.axis_u, v = rot * q.axis_v;
+    const Eigen::Vector3d corners[4] = {o, o + u, o + u + v, o + v};
+    // Clip against z >= near (Sutherland-Hodgman, one plane).
+    Eigen::Vector3d clipped[8];
+    int n = 0;
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector3d& a = corners[c];
+      const Eigen::Vector3d& b = corners[(c + 1) % 4];
+      const bool a_in = a.z() >= kNearM, b_in = b.z() >= kNearM;
+      if (a_in) clipped[n++] = a;
+      if (a_in != b_in) clipped[n++] = a + (b - a) * ((kNearM - a.z()) / (b.z() - a.z()));
+    }
+    if (n < 3) continue;
+    const Eigen::Vector3d normal = u.cross(v).normalized();
+    const double d = normal.dot(o);
+    if (std::abs(d) < 1e-9) continue;  // seen edge-on
+    double min_x = 1e30, max_x = -1e30, min_y = 1e30, max_y = -1e30;
+    for (int c = 0; c < n; ++c) {
+      const Eigen::Vector2d px(fx * clipped[c].x() / clipped[c].z() + cx, fy * clipped[c].y() / clipped[c].z() + cy);
+      p.polygon.push_back(px);
+      min_x = std::min(min_x, px.x()); max_x = std::max(max_x, px.x());
+      min_y = std::min(min_y, px.y()); max_y = std::max(max_y, px.y());
+    }
+    const int w = camera_.width * scale, h = camera_.height * scale;
+    if (max_x < 0 || max_y < 0 || min_x > w - 1 || min_y > h - 1) continue;
+    p.a = normal.x() / (fx * d);
+    p.b = normal.y() / (fy * d);
+    p.c = (normal.z() - normal.x() * cx / fx - normal.y() * cy / fy) / d;
+    Eigen::Matrix3d img_from_ab;
+    img_from_ab.col(0) = k * u;
+    img_from_ab.col(1) = k * v;
+    img_from_ab.col(2) = k * o;
+    Eigen::Matrix3d tex_from_ab;
+    tex_from_ab << q.tex_rect.width, 0, q.tex_rect.x, 0, q.tex_rect.height, q.tex_rect.y, 0, 0, 1;
+    p.img_from_tex = img_from_ab * tex_from_ab.inverse();
+    p.tex_from_img = tex_from_ab * img_from_ab.inverse();
+    p.width_m = q.axis_u.norm();
+    p.visible = true;
+  }
+}
+
+void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
+                         cv::Mat* inv_depth, cv::Mat* quad_index) const {
+  const int scale = inv_depth->cols / camera_.width;
+  const int w = camera_.width * scale, h = camera_.height * scale;
+  inv_depth->setTo(0.0f);
+  quad_index->setTo(-1);
+  for (size_t qi = 0; qi < quads.size(); ++qi) {
+    const Prepared& p = prepared[qi];
+    if (!p.visible) continue;
+    const Texture* sprite = quads[qi].texture->IsSprite() ? quads[qi].texture : nullptr;
+    double min_y = 1e30, max_y = -1e30;
+    for (const auto& v : p.polygon) { min_y = std::min(min_y, v.y()); max_y = std::max(max_y, v.y()); }
+    const int y_begin = std::max(0, static_cast<int>(std::ceil(min_y)));
+    const int y_end = std::min(h - 1, static_cast<int>(std::floor(max_y)));
+    const size_t n = p.polygon.size();
+    const Eigen::Matrix3d& t = p.tex_from_img;
+    for (int y = y_begin; y <= y_end; ++y) {
+      double xl = 1e30, xr = -1e30;
+      for (size_t e = 0; e < n; ++e) {
+        const Eigen::Vector2d& a = p.polygon[e];
+        const Eigen::Vector2d& b = p.polygon[(e + 1) % n];
+        if ((a.y() <= y && b.y() >= y) || (b.y() <= y && a.y() >= y)) {
+          if (a.y() == b.y()) {
+            xl = std::min({xl, a.x(), b.x()});
+            xr = std::max({xr, a.x(), b.x()});
+          } else {
+            const double x = a.x() + (y - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+            xl = std::min(xl, x);
+            xr = std::max(xr, x);
+          }
+        }
+      }
+      if (xl > xr) continue;
+      const int x_begin = std::max(0, static_cast<int>(std::ceil(xl)));
+      const int x_end = std::min(w, static_cast<int>(std::ceil(xr)));
+      float* zrow = inv_depth->ptr<float>(y);
+      int* irow = quad_index->ptr<int>(y);
+      if (!sprite) {
+        const float a = static_cast<float>(p.a);
+        const float row_c = static_cast<float>(p.b * y + p.c);
+        for (int x = x_begin; x < x_end; ++x) {
+          const float iz = a * x + row_c;
+          if (iz > zrow[x]) {
+            zrow[x] = iz;
+            irow[x] = static_cast<int>(qi);
+          }
+        }
+        continue;
+      }
+      for (int x = x_begin; x < x_end; ++x) {
+        const double tw = t(2, 0) * x + t(2, 1) * y + t(2, 2);
+        const double tx = (t(0, 0) * x + t(0, 1) * y + t(0, 2)) / tw;
+        const double ty = (t(1, 0) * x + t(1, 1) * y + t(1, 2)) / tw;
+        if (tx < -0.5 || ty < -0.5 || tx > sprite->width() - 0.5 || ty > sprite->height() - 0.5) continue;
+        const cv::Vec2f ab = SampleBilinear(sprite->alpha_bulge, tx, ty);
+        if (ab[0] < 0.5f) continue;
+        const double z = 1.0 / (p.a * x + p.b * y + p.c) - ab[1] * p.width_m;
+        if (z <= kNearM) continue;
+        const float iz = static_cast<float>(1.0 / z);
+        if (iz <= zrow[x]) continue;
+        zrow[x] = iz;
+        irow[x] = static_cast<int>(qi);
+      }
+    }
+  }
+}
+
+void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
+                     const cv::Mat& quad_index, cv::Mat* colour) {
+  const int nq = static_cast<int>(quads.size());
+  std::vector<cv::Vec4i> box(nq, cv::Vec4i(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1));
+  for (int y = 0; y < quad_index.rows; ++y) {
+    const int* row = quad_index.ptr<int>(y);
+    int x = 0;
+    while (x < quad_index.cols) {
+      const int q = row[x];
+      int end = x + 1;
+      while (end < quad_index.cols && row[end] == q) ++end;
+      if (q >= 0) {
+        cv::Vec4i& b = box[q];
+        b[0] = std::min(b[0], x); b[1] = std::min(b[1], y);
+        b[2] = std::max(b[2], end - 1); b[3] = std::max(b[3], y);
+      }
+      x = end;
+    }
+  }
+  // Per quad: mip level from the texel footprint of a pixel at the centre of its visible box,
+  // and the homography from pixels to texels of that level.
+  struct Level {
+    const cv::Mat* image = nullptr;
+    double h[9];
+  };
+  std::vector<Level> levels(nq);
+  for (int q = 0; q < nq; ++q) {
+    const cv::Vec4i& b = box[q];
+    if (b[2] < 0) continue;
+    const Texture& texture = *quads[q].texture;
+    const Eigen::Matrix3d& t = prepared[q].tex_from_img;
+    const double x = 0.5 * (b[0] + b[2]), y = 0.5 * (b[1] + b[3]);
+    const double tw = t(2, 0) * x + t(2, 1) * y + t(2, 2);
+    const double tx = (t(0, 0) * x + t(0, 1) * y + t(0, 2)) / tw;
+    const double ty = (t(1, 0) * x + t(1, 1) * y + t(1, 2)) / tw;
+    const double j00 = (t(0, 0) - tx * t(2, 0)) / tw, j01 = (t(0, 1) - tx * t(2, 1)) / tw;
+    const double j10 = (t(1, 0) - ty * t(2, 0)) / tw, j11 = (t(1, 1) - ty * t(2, 1)) / tw;
+    const double texels_per_px = std::sqrt(std::abs(j00 * j11 - j01 * j10));
+    int level = texels_per_px > 1.0 ? static_cast<int>(std::floor(std::log2(texels_per_px) + 0.25)) : 0;
+    level = std::clamp(level, 0, static_cast<int>(texture.levels.size()) - 1);
+    const double inv_scale = std::ldexp(1.0, -level);
+    levels[q].image = &texture.levels[level];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) levels[q].h[3 * r + c] = t(r, c) * (r < 2 ? inv_scale : 1.0);
+  }
+  // Perspective-correct bilinear texturing of each pixel from its quad's texture level, run by
+  // run (a run is a horizontal stretch of pixels of one quad), in 8-bit fixed point.
+  for (int y = 0; y < quad_index.rows; ++y) {
+    const int* row = quad_index.ptr<int>(y);
+    auto* out = colour->ptr<uchar>(y);
+    int x = 0;
+    while (x < quad_index.cols) {
+      const int q = row[x];
+      int end = x + 1;
+      while (end < quad_index.cols && row[end] == q) ++end;
+      if (q < 0) {
+        std::fill(out + 3 * x, out + 3 * end, uchar{128});
+        x = end;
+        continue;
+      }
+      const Level& l = levels[q];
+      const double* h = l.h;
+      const cv::Mat& img = *l.image;
+      const size_t step = img.step[0];
+      const uchar* base = img.data;
+      const float max_x = img.cols - 1.002f, max_y = img.rows - 1.002f;
+      double nx = h[0] * x + h[1] * y + h[2], ny = h[3] * x + h[4] * y + h[5], nw = h[6] * x + h[7] * y + h[8];
+      for (; x < end; ++x) {
+        const double inv_w = 1.0 / nw;
+        const float tx = std::clamp(static_cast<float>(nx * inv_w), 0.0f, max_x);
+        const float ty = std::clamp(static_cast<float>(ny * inv_w), 0.0f, max_y);
+        nx += h[0];
+        ny += h[3];
+        nw += h[6];
+        const int fx = static_cast<int>(tx * 256.0f), fy = static_cast<int>(ty * 256.0f);
+        const int ix = fx >> 8, iy = fy >> 8, wx = fx & 255, wy = fy & 255;
+        const uchar* p0 = base + iy * step + 3 * ix;
+        const uchar* p1 = p0 + step;
+        uchar* o = out + 3 * x;
+        for (int c = 0; c < 3; ++c) {
+          const int top = (p0[c] << 8) + wx * (p0[c + 3] - p0[c]);
+          const int bottom = (p1[c] << 8) + wx * (p1[c + 3] - p1[c]);
+          o[c] = static_cast<uchar>(((top << 8) + wy * (bottom - top) + 32768) >> 16);
+        }
+      }
+    }
+  }
+}
+
+void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, RenderedFrame* out) {
+  const int w = camera_.width, h = camera_.height, s = supersample_;
+  for (const DrawQuad& q : quads) CV_Assert(q.texture != nullptr && !q.texture->levels.empty());
+  inv_depth_full_.create(h, w, CV_32F);
+  index_full_.create(h, w, CV_32S);
+  Prepare(quads, cam_from_world, 1, &prepared_full_);
+  Rasterise(quads, prepared_full_, &inv_depth_full_, &index_full_);
+  const std::vector<Prepared>* shade_prepared = &prepared_full_;
+  const cv::Mat* shade_index = &index_full_;
+  if (s > 1) {
+    inv_depth_super_.create(h * s, w * s, CV_32F);
+    index_super_.create(h * s, w * s, CV_32S);
+    Prepare(quads, cam_from_world, s, &prepared_super_);
+    Rasterise(quads, prepared_super_, &inv_depth_super_, &index_super_);
+    shade_prepared = &prepared_super_;
+    shade_index = &index_super_;
+  }
+  colour_super_.create(h * s, w * s, CV_8UC3);
+  Shade(quads, *shade_prepared, *shade_index, &colour_super_);
+  if (s > 1) {
+    cv::resize(colour_super_, out->rgb, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+  } else {
+    colour_super_.copyTo(out->rgb);
+  }
+
+  std::vector<uchar> object_of(quads.size() + 1, 0);  // shifted by one: index -1 -> 0
+  for (size_t i = 0; i < quads.size(); ++i) object_of[i + 1] = static_cast<uchar>(quads[i].object_id);
+  out->depth_m.create(h, w, CV_32F);
+  out->object_id.create(h, w, CV_8U);
+  for (int y = 0; y < h; ++y) {
+    const float* iz = inv_depth_full_.ptr<float>(y);
+    const int* idx = index_full_.ptr<int>(y);
+    float* depth = out->depth_m.ptr<float>(y);
+    uchar* id = out->object_id.ptr<uchar>(y);
+    for (int x = 0; x < w; ++x) {
+      depth[x] = iz[x] > 0.0f ? 1.0f / iz[x] : 0.0f;
+      uchar obj = object_of[idx[x] + 1];
+      if (obj == 0 && s > 1) {
+        for (int dy = 0; dy < s && obj == 0; ++dy) {
+          const int* srow = index_super_.ptr<int>(y * s + dy) + x * s;
+          for (int dx = 0; dx < s; ++dx) obj = std::max(obj, object_of[srow[dx] + 1]);
+        }
+      }
+      id[x] = obj;
+    }
+  }
+}
+
+}  // namespace dynorb::synth
