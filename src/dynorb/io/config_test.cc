@@ -162,8 +162,11 @@ TEST_F(ConfigTest, InvalidInputs) {
   ExpectInputError([&] { LoadSystemConfig((dir_ / "missing.yaml").string()); },
                    "config file not found");
   const std::string broken = Write("broken.yaml", base + "Camera.cx: [1, 2\n");
-  ExpectInputError([&] { LoadSystemConfig(broken); }, broken + ":");
-  ExpectInputError([&] { LoadSystemConfig(broken); }, "invalid YAML");
+  // yaml-cpp reports the unterminated list at the end of the input (line 6).
+  ExpectInputError([&] { LoadSystemConfig(broken); }, broken + ":6: invalid YAML");
+  ExpectInputError([&] { LoadSystemConfig(Write("indent.yaml", "a: 1\n  b: 2\n")); },
+                   "indent.yaml:2: invalid YAML: illegal map value");
+  ExpectInputError([&] { LoadSystemConfig(dir_.string()); }, "config file not found");
   ExpectInputError(
       [&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.nFeatures: 1000.5\n")); },
       "a.yaml:5: 'ORBextractor.nFeatures' expects an integer, got '1000.5'");
