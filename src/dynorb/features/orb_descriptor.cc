@@ -1,0 +1,85 @@
+#include "dynorb/features/orb_descriptor.h"
+
+#include <array>
+#include <cassert>
+#include <cmath>
+
+#include "dynorb/features/brief_pattern.h"
+#include "dynorb/features/image_pyramid.h"
+
+namespace dynorb {
+namespace {
+
+constexpr int kDiscRadius2 = 240;  // u² + v² ≤ 240: the ORB disc of radius ≈ 15.5 px
+
+// Half-width of the disc on each row |v| ≤ kHalfPatchSize. Symmetric under u ↔ v by construction.
+std::array<int, kHalfPatchSize + 1> DiscHalfWidths() {
+  std::array<int, kHalfPatchSize + 1> u_max{};
+  for (int v = 0; v <= kHalfPatchSize; ++v) {
+    int u = 0;
+    while ((u + 1) * (u + 1) + v * v <= kDiscRadius2) ++u;
+    u_max[v] = u;
+  }
+  return u_max;
+}
+
+}  // namespace
+
+float IntensityCentroidAngleDeg(const cv::Mat& level, cv::Point center) {
+  static const std::array<int, kHalfPatchSize + 1> kUMax = DiscHalfWidths();
+  assert(level.type() == CV_8UC1);
+  assert(center.x >= kHalfPatchSize && center.x < level.cols - kHalfPatchSize);
+  assert(center.y >= kHalfPatchSize && center.y < level.rows - kHalfPatchSize);
+  const uint8_t* c = level.ptr<uint8_t>(center.y) + center.x;
+  const int step = static_cast<int>(level.step1());
+  int m10 = 0, m01 = 0;
+  for (int u = -kUMax[0]; u <= kUMax[0]; ++u) m10 += u * c[u];  // centre row: v = 0
+  for (int v = 1; v <= kHalfPatchSize; ++v) {
+    // Rows +v and −v together: Σ u (I₊ + I₋) for m10 and v Σ (I₊ − I₋) for m01.
+    const uint8_t* below = c + v * step;
+    const uint8_t* above = c - v * step;
+    int diff_sum = 0;
+    for (int u = -kUMax[v]; u <= kUMax[v]; ++u) {
+      const int lo = below[u], hi = above[u];
+      m10 += u * (lo + hi);
+      diff_sum += lo - hi;
+    }
+    m01 += v * diff_sum;
+  }
+  float angle = static_cast<float>(std::atan2(static_cast<double>(m01), static_cast<double>(m10)) *
+                                   (180.0 / CV_PI));
+  if (angle < 0.f) angle += 360.f;
+  if (angle >= 360.f) angle -= 360.f;
+  return angle;
+}
+
+void ComputeSteeredTests(const cv::Mat& blurred, cv::Point center, float angle_deg,
+                         const BriefPair* pairs, int n, uint8_t* out) {
+  assert(blurred.type() == CV_8UC1);
+  assert(center.x > kBriefMaxRadius && center.x < blurred.cols - kBriefMaxRadius - 1);
+  assert(center.y > kBriefMaxRadius && center.y < blurred.rows - kBriefMaxRadius - 1);
+  const double angle_rad = angle_deg * (CV_PI / 180.0);
+  const float a = static_cast<float>(std::cos(angle_rad));
+  const float b = static_cast<float>(std::sin(angle_rad));
+  const uint8_t* c = blurred.ptr<uint8_t>(center.y) + center.x;
+  const int step = static_cast<int>(blurred.step1());
+  auto sample = [&](int x, int y) {
+    const int xr = cvRound(x * a - y * b);
+    const int yr = cvRound(x * b + y * a);
+    return c[yr * step + xr];
+  };
+  for (int byte = 0; byte * 8 < n; ++byte) {
+    uint8_t value = 0;
+    for (int bit = 0; bit < 8 && byte * 8 + bit < n; ++bit) {
+      const BriefPair& p = pairs[byte * 8 + bit];
+      value |= static_cast<uint8_t>((sample(p.x1, p.y1) < sample(p.x2, p.y2)) << bit);
+    }
+    out[byte] = value;
+  }
+}
+
+void ComputeSteeredBrief(const cv::Mat& blurred, cv::Point center, float angle_deg, uint8_t* out) {
+  ComputeSteeredTests(blurred, center, angle_deg, BriefPattern().data(), kBriefBits, out);
+}
+
+}  // namespace dynorb
