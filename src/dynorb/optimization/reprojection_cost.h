@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "dynorb/core/keypoint_observation.h"
 #include "dynorb/core/pinhole_camera.h"
 
 namespace ceres {
@@ -17,13 +18,6 @@ class CostFunction;
 }
 
 namespace dynorb {
-
-struct KeypointObservation {
-  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
-  double u_right = -1.0;     // < 0: monocular observation (no valid depth).
-  double information = 1.0;  // 1 / sigma^2 in px^-2.
-  bool IsStereo() const { return u_right >= 0.0; }
-};
 
 // Parameter blocks: [pose (7, see pose_block.h), point_in_world (3)].
 ceres::CostFunction* NewReprojectionCost(const PinholeCamera& camera, double bf, const KeypointObservation& obs);

@@ -1,0 +1,93 @@
+// The SLAM map: keyframes, landmarks, the covisibility graph and the spanning tree.
+//
+// MapData holds the entities (ordered by id, so iteration is deterministic) and the operations
+// that keep them consistent; its methods assume the caller holds the map lock. Map owns one
+// MapData behind ONE private mutex, reachable only through Read() (shared, for snapshots) and
+// Write() (exclusive): long work is snapshot -> solve unlocked -> commit.
+#pragma once
+
+#include <map>
+#include <mutex>
+#include <shared_mutex>
+#include <vector>
+
+#include "dynorb/map/keyframe.h"
+#include "dynorb/map/landmark.h"
+
+namespace dynorb {
+
+class MapData {
+ public:
+  KeyframeId AddKeyframe(Keyframe keyframe);  // Assigns the id; landmarks vector sized to features.
+  LandmarkId AddLandmark(Landmark landmark);  // Assigns the id.
+
+  bool HasKeyframe(KeyframeId id) const { return keyframes_.count(id) != 0; }
+  bool HasLandmark(LandmarkId id) const { return landmarks_.count(id) != 0; }
+  const Keyframe& keyframe(KeyframeId id) const { return keyframes_.at(id); }
+  Keyframe& keyframe(KeyframeId id) { return keyframes_.at(id); }
+  const Landmark& landmark(LandmarkId id) const { return landmarks_.at(id); }
+  Landmark& landmark(LandmarkId id) { return landmarks_.at(id); }
+  const std::map<KeyframeId, Keyframe>& keyframes() const { return keyframes_; }
+  const std::map<LandmarkId, Landmark>& landmarks() const { return landmarks_; }
+  size_t NumKeyframes() const { return keyframes_.size(); }
+  size_t NumLandmarks() const { return landmarks_.size(); }
+
+  // Links keypoint `index` of keyframe `kf` to landmark `lm` (both directions).
+  void AddObservation(LandmarkId lm, KeyframeId kf, int index);
+  // Unlinks; a landmark left without observations, or with one that has no depth (it cannot
+  // be located any more), is erased.
+  void EraseObservation(LandmarkId lm, KeyframeId kf);
+  // Erases a landmark and every reference to it.
+  void EraseLandmark(LandmarkId lm);
+  // Fuses `from` into `into`: observations move over (unless the keyframe already sees `into`),
+  // visibility counters add up, `from` is erased.
+  void ReplaceLandmark(LandmarkId from, LandmarkId into);
+  // Recomputes normal, distance range and representative descriptor from the observations.
+  void UpdateLandmarkGeometry(LandmarkId lm);
+  void UpdateLandmarkDescriptor(LandmarkId lm);
+
+  // Recomputes the covisibility edges of `kf` from shared landmarks (weight >= min_weight, or the
+  // single best if none reaches it), updates the other side, and attaches `kf` to the spanning
+  // tree (parent = best covisible) if it has no parent yet.
+  void UpdateConnections(KeyframeId kf, int min_weight = 15);
+  std::vector<KeyframeId> BestCovisibles(KeyframeId kf, int n) const;
+  // ORB-SLAM2's observation count: an observation with depth counts 2 (it fixes the point alone),
+  // one without depth counts 1.
+  int WeightedObservations(LandmarkId lm) const;
+  // Landmarks of `kf` with WeightedObservations >= min_weighted_observations.
+  int NumTrackedLandmarks(KeyframeId kf, int min_weighted_observations) const;
+  // Erases a keyframe: its observations, edges, and re-parents its children to its parent.
+  // The first keyframe (id 0 / the root) is never erased. Its pose relative to its parent is
+  // remembered, so frames that referenced it keep a resolvable pose (ResolveKeyframePose).
+  void EraseKeyframe(KeyframeId kf);
+  // cam_from_world of a keyframe, also of an erased one (through its parent chain at erase time).
+  Rigid3d ResolveKeyframePose(KeyframeId kf) const;
+
+ private:
+  std::map<KeyframeId, Keyframe> keyframes_;
+  std::map<LandmarkId, Landmark> landmarks_;
+  // Erased keyframe -> (parent, cam_from_parent_cam at erase time).
+  std::map<KeyframeId, std::pair<KeyframeId, Rigid3d>> erased_;
+  KeyframeId next_keyframe_id_ = 0;
+  LandmarkId next_landmark_id_ = 0;
+};
+
+class Map {
+ public:
+  template <typename F>
+  auto Read(F&& f) const {
+    std::shared_lock<std::shared_mutex> lock(mutex_);
+    return f(static_cast<const MapData&>(data_));
+  }
+  template <typename F>
+  auto Write(F&& f) {
+    std::unique_lock<std::shared_mutex> lock(mutex_);
+    return f(data_);
+  }
+
+ private:
+  mutable std::shared_mutex mutex_;
+  MapData data_;
+};
+
+}  // namespace dynorb

@@ -1,0 +1,177 @@
+#include "dynorb/map/map.h"
+
+#include <memory>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "dynorb/map/frame_features.h"
+
+namespace dynorb {
+namespace {
+
+RgbdSensor Sensor() {
+  RgbdSensor s;
+  s.camera = TumFreiburg3Camera();
+  s.bf = 40.0;
+  return s;
+}
+
+// n keypoints on a regular lattice, levels cycling 0..3, random descriptors.
+std::shared_ptr<const FrameFeatures> MakeFeatures(int n, uint64_t seed, float depth_m = 2.0f) {
+  std::mt19937_64 rng(seed);
+  OrbFeatures orb;
+  orb.descriptors = cv::Mat(n, 32, CV_8U);
+  for (int i = 0; i < n; ++i) {
+    cv::KeyPoint kp(cv::Point2f(20.0f + 37.0f * (i % 16), 20.0f + 29.0f * (i / 16)), 31.0f, 0.0f, 1.0f, i % 4);
+    orb.keypoints.push_back(kp);
+    for (int b = 0; b < 32; ++b) orb.descriptors.at<uint8_t>(i, b) = static_cast<uint8_t>(rng());
+  }
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(depth_m));
+  depth(cv::Rect(0, 0, 100, 100)).setTo(0.0f);  // A hole without depth.
+  return std::make_shared<const FrameFeatures>(orb, depth, Sensor(), ScaleLevels(8, 1.2));
+}
+
+TEST(FrameFeatures, DepthURightAndObservation) {
+  const auto f = MakeFeatures(200, 1);
+  ASSERT_EQ(f->size(), 200);
+  EXPECT_FALSE(f->HasDepth(0));  // (20, 20) lies in the hole.
+  const int i = 50;
+  ASSERT_TRUE(f->HasDepth(i));
+  EXPECT_FLOAT_EQ(f->depth(i), 2.0f);
+  EXPECT_NEAR(f->u_right(i), f->keypoint(i).pt.x - 40.0 / 2.0, 1e-4);
+  const KeypointObservation obs = f->Observation(i);
+  EXPECT_NEAR(obs.information, 1.0 / std::pow(1.2, 2 * (i % 4)), 1e-12);
+  EXPECT_TRUE(obs.IsStereo());
+  EXPECT_FALSE(f->Observation(0).IsStereo());
+  const Eigen::Vector3d p = f->PointInCam(i, Sensor().camera);
+  EXPECT_NEAR(p.z(), 2.0, 1e-9);
+  EXPECT_LT((Sensor().camera.Project(p) - obs.uv).norm(), 1e-4);
+}
+
+TEST(FrameFeatures, AreaQueryMatchesBruteForce) {
+  const auto f = MakeFeatures(300, 2);
+  for (double r : {5.0, 30.0, 80.0}) {
+    for (int min_level : {0, 2}) {
+      const std::vector<int> got = f->FeaturesInArea(300.0, 200.0, r, min_level, 2);
+      std::vector<int> want;
+      for (int i = 0; i < f->size(); ++i) {
+        const cv::KeyPoint& kp = f->keypoint(i);
+        const double dx = kp.pt.x - 300.0, dy = kp.pt.y - 200.0;
+        if (dx * dx + dy * dy <= r * r && kp.octave >= min_level &&
+            kp.octave <= 2) {
+          want.push_back(i);
+        }
+      }
+      EXPECT_EQ(got, want) << "r=" << r << " min_level=" << min_level;
+    }
+  }
+}
+
+class MapDataTest : public ::testing::Test {
+ protected:
+  // Keyframes 0, 1, 2; landmarks: 35 seen by 0-1, 15 by 1-2, 5 by all three (so 0-1 share 40,
+  // 1-2 share 20, 0-2 share 5).
+  void SetUp() override {
+    for (int k = 0; k < 3; ++k) {
+      Keyframe kf;
+      kf.features = MakeFeatures(100, 10 + k);
+      kf.cam_from_world = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.1 * k, 0, 0));
+      ids_.push_back(map_.AddKeyframe(kf));
+    }
+    auto add = [&](std::vector<int> kfs, int count) {
+      for (int c = 0; c < count; ++c) {
+        Landmark lm;
+        lm.point_in_world = Eigen::Vector3d(0.01 * next_index_, 0.0, 2.0);
+        const LandmarkId id = map_.AddLandmark(lm);
+        for (int k : kfs) map_.AddObservation(id, ids_[k], next_index_);
+        map_.UpdateLandmarkGeometry(id);
+        map_.UpdateLandmarkDescriptor(id);
+        ++next_index_;
+      }
+    };
+    add({0, 1}, 35);
+    add({1, 2}, 15);
+    add({0, 2}, 0);
+    add({0, 1, 2}, 5);
+    for (KeyframeId id : ids_) map_.UpdateConnections(id);
+  }
+  MapData map_;
+  std::vector<KeyframeId> ids_;
+  int next_index_ = 0;
+};
+
+TEST_F(MapDataTest, CovisibilityAndSpanningTree) {
+  const Keyframe& k1 = map_.keyframe(ids_[1]);
+  EXPECT_EQ(k1.covisibility.at(ids_[0]), 40);
+  EXPECT_EQ(k1.covisibility.at(ids_[2]), 20);
+  EXPECT_EQ(k1.ordered_covisibles, (std::vector<KeyframeId>{ids_[0], ids_[2]}));
+  // 0-2 share only 5 (< 15): no edge, since both have stronger edges.
+  EXPECT_EQ(map_.keyframe(ids_[0]).covisibility.count(ids_[2]), 0u);
+  EXPECT_EQ(map_.keyframe(ids_[1]).parent, ids_[0]);
+  EXPECT_EQ(map_.keyframe(ids_[2]).parent, ids_[1]);
+  EXPECT_EQ(map_.BestCovisibles(ids_[1], 1), (std::vector<KeyframeId>{ids_[0]}));
+  // Every keypoint but those in the depth hole has depth: 3 views with depth weigh 6.
+  EXPECT_EQ(map_.NumTrackedLandmarks(ids_[1], 6), 5);
+  // Keypoint 0 lies in the depth hole in keyframes 0 and 1: two observations without depth.
+  const LandmarkId hole = map_.keyframe(ids_[0]).landmarks[0];
+  EXPECT_EQ(map_.WeightedObservations(hole), 1 + 1);
+  EXPECT_EQ(map_.WeightedObservations(map_.keyframe(ids_[0]).landmarks[3]), 2 + 2);  // x = 131: depth
+}
+
+TEST_F(MapDataTest, EraseObservationDropsUnderObservedLandmark) {
+  const LandmarkId lm = map_.keyframe(ids_[0]).landmarks[0];
+  ASSERT_NE(lm, kNoLandmark);
+  map_.EraseObservation(lm, ids_[0]);
+  EXPECT_FALSE(map_.HasLandmark(lm));  // 1 observation left: erased.
+  EXPECT_EQ(map_.keyframe(ids_[1]).landmarks[0], kNoLandmark);
+}
+
+TEST_F(MapDataTest, ReplaceLandmarkMovesObservations) {
+  const LandmarkId a = map_.keyframe(ids_[0]).landmarks[0];   // seen by 0, 1
+  const LandmarkId b = map_.keyframe(ids_[1]).landmarks[40];  // seen by 1, 2
+  map_.ReplaceLandmark(a, b);
+  EXPECT_FALSE(map_.HasLandmark(a));
+  const Landmark& l = map_.landmark(b);
+  EXPECT_EQ(l.NumObservations(), 3);
+  EXPECT_EQ(map_.keyframe(ids_[0]).landmarks[0], b);
+  EXPECT_EQ(map_.keyframe(ids_[1]).landmarks[0], kNoLandmark);  // Kf 1 already saw b elsewhere.
+  EXPECT_EQ(l.descriptor.cols, 32);
+}
+
+TEST_F(MapDataTest, EraseKeyframeReparentsAndCleans) {
+  const Rigid3d pose1 = map_.keyframe(ids_[1]).cam_from_world;
+  map_.EraseKeyframe(ids_[1]);
+  EXPECT_FALSE(map_.HasKeyframe(ids_[1]));
+  EXPECT_LT((map_.ResolveKeyframePose(ids_[1]).translation - pose1.translation).norm(), 1e-12);
+  // The erased pose follows its parent when the parent moves (e.g. after bundle adjustment).
+  map_.keyframe(ids_[0]).cam_from_world.translation += Eigen::Vector3d(0.5, 0, 0);
+  EXPECT_LT((map_.ResolveKeyframePose(ids_[1]).translation - pose1.translation - Eigen::Vector3d(0.5, 0, 0)).norm(),
+            1e-12);
+  EXPECT_EQ(map_.keyframe(ids_[2]).parent, ids_[0]);
+  EXPECT_EQ(map_.keyframe(ids_[0]).covisibility.count(ids_[1]), 0u);
+  for (const auto& [id, lm] : map_.landmarks()) {
+    EXPECT_EQ(lm.observations.count(ids_[1]), 0u);
+    ASSERT_GE(lm.NumObservations(), 1);
+    if (lm.NumObservations() == 1) {  // Only a depth-backed single observation may remain.
+      const auto& [kf, index] = *lm.observations.begin();
+      EXPECT_TRUE(map_.keyframe(kf).features->HasDepth(index));
+    }
+  }
+  map_.EraseKeyframe(ids_[0]);  // The root is never erased.
+  EXPECT_TRUE(map_.HasKeyframe(ids_[0]));
+}
+
+TEST(Map, ReadWriteUnderOneLock) {
+  Map map;
+  const KeyframeId id = map.Write([](MapData& d) {
+    Keyframe kf;
+    kf.features = MakeFeatures(10, 5);
+    return d.AddKeyframe(kf);
+  });
+  EXPECT_EQ(map.Read([](const MapData& d) { return d.NumKeyframes(); }), 1u);
+  EXPECT_EQ(id, 0u);
+}
+
+}  // namespace
+}  // namespace dynorb

@@ -1,0 +1,98 @@
+#include "dynorb/mapping/local_bundle_adjustment.h"
+
+#include <map>
+#include <set>
+
+#include "dynorb/optimization/bundle_adjuster.h"
+
+namespace dynorb {
+namespace {
+
+struct Snapshot {
+  std::vector<KeyframeId> keyframe_ids;
+  std::vector<LandmarkId> landmark_ids;
+  std::vector<BaKeyframe> keyframes;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<BaObservation> observations;
+};
+
+Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe) {
+  Snapshot s;
+  std::map<KeyframeId, size_t> kf_index;
+  std::map<LandmarkId, size_t> lm_index;
+  auto add_keyframe = [&](KeyframeId id, bool fixed) {
+    kf_index[id] = s.keyframes.size();
+    s.keyframe_ids.push_back(id);
+    BaKeyframe kf;
+    kf.cam_from_world = map.keyframe(id).cam_from_world;
+    kf.fixed = fixed || id == map.keyframes().begin()->first;  // The first keyframe anchors the map.
+    s.keyframes.push_back(kf);
+  };
+  add_keyframe(keyframe, false);
+  for (KeyframeId id : map.keyframe(keyframe).ordered_covisibles) add_keyframe(id, false);
+  const size_t num_local = s.keyframes.size();
+  for (size_t k = 0; k < num_local; ++k) {
+    for (LandmarkId lm : map.keyframe(s.keyframe_ids[k]).landmarks) {
+      if (lm == kNoLandmark || lm_index.count(lm)) continue;
+      lm_index[lm] = s.points.size();
+      s.landmark_ids.push_back(lm);
+      s.points.push_back(map.landmark(lm).point_in_world);
+    }
+  }
+  for (size_t l = 0; l < s.landmark_ids.size(); ++l) {
+    for (const auto& [kf, index] : map.landmark(s.landmark_ids[l]).observations) {
+      if (!kf_index.count(kf)) add_keyframe(kf, true);
+      BaObservation obs;
+      obs.keyframe_index = kf_index.at(kf);
+      obs.landmark_index = l;
+      obs.keypoint = map.keyframe(kf).features->Observation(index);
+      s.observations.push_back(obs);
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdSensor& sensor,
+                                      const LocalMapperOptions& options) {
+  LocalBaStats stats;
+  const Snapshot s = map->Read([&](const MapData& data) {
+    return data.HasKeyframe(keyframe) ? TakeSnapshot(data, keyframe) : Snapshot{};
+  });
+  if (s.observations.empty()) return stats;
+  for (const BaKeyframe& kf : s.keyframes) (kf.fixed ? stats.fixed_keyframes : stats.free_keyframes)++;
+  stats.landmarks = static_cast<int>(s.points.size());
+  stats.observations = static_cast<int>(s.observations.size());
+
+  const BundleAdjusterResult r =
+      RunBundleAdjustment(sensor.camera, sensor.bf, s.keyframes, s.points, s.observations, options.bundle_adjustment);
+  stats.initial_cost = r.initial_cost;
+  stats.final_cost = r.final_cost;
+
+  map->Write([&](MapData& data) {
+    for (size_t o = 0; o < s.observations.size(); ++o) {
+      if (r.observation_inlier[o]) continue;
+      const KeyframeId kf = s.keyframe_ids[s.observations[o].keyframe_index];
+      const LandmarkId lm = s.landmark_ids[s.observations[o].landmark_index];
+      if (data.HasLandmark(lm) && data.landmark(lm).observations.count(kf)) {
+        data.EraseObservation(lm, kf);
+        ++stats.removed_observations;
+      }
+    }
+    for (size_t k = 0; k < s.keyframes.size(); ++k) {
+      if (!s.keyframes[k].fixed && data.HasKeyframe(s.keyframe_ids[k])) {
+        data.keyframe(s.keyframe_ids[k]).cam_from_world = r.cam_from_world[k];
+      }
+    }
+    for (size_t l = 0; l < s.landmark_ids.size(); ++l) {
+      if (!data.HasLandmark(s.landmark_ids[l])) continue;
+      data.landmark(s.landmark_ids[l]).point_in_world = r.points_in_world[l];
+      data.UpdateLandmarkGeometry(s.landmark_ids[l]);
+    }
+    return 0;
+  });
+  return stats;
+}
+
+}  // namespace dynorb

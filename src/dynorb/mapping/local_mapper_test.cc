@@ -1,0 +1,175 @@
+#include "dynorb/mapping/local_mapper.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "dynorb/mapping/landmark_triangulator.h"
+#include "dynorb/tracking/test_world.h"
+#include "dynorb/tracking/tracker.h"
+
+namespace dynorb {
+namespace {
+
+using testing::FeatureWorld;
+
+// Distance from p to the nearest true world point.
+double NearestWorldPointDistance(const FeatureWorld& world, const Rigid3d& world_from_first, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d q = world_from_first * p;
+  double best = 1e9;
+  for (const Eigen::Vector3d& w : world.points()) best = std::min(best, (w - q).norm());
+  return best;
+}
+
+TEST(LandmarkTriangulator, TriangulatesTrueStructure) {
+  FeatureWorld world(3, 3000);
+  MapData map;
+  std::vector<KeyframeId> ids;
+  std::vector<int> point_ids[2];
+  int view = 0;
+  for (int k : {0, 12}) {  // ~0.15 m and 11 degrees apart on the path.
+    Keyframe kf;
+    kf.features = world.Observe(FeatureWorld::WorldFromCam(k), 50 + k, 0.5, &point_ids[view++]);
+    kf.cam_from_world = FeatureWorld::WorldFromCam(k).Inverse();
+    ids.push_back(map.AddKeyframe(kf));
+  }
+  map.keyframe(ids[1]).covisibility[ids[0]] = 100;
+  map.keyframe(ids[1]).ordered_covisibles = {ids[0]};
+  const std::vector<LandmarkId> created = TriangulateNewLandmarks(&map, ids[1], world.sensor(), LocalMapperOptions());
+  std::vector<int> common;
+  std::set_intersection(point_ids[0].begin(), point_ids[0].end(), point_ids[1].begin(), point_ids[1].end(),
+                        std::back_inserter(common));
+  ASSERT_GT(common.size(), 150u);
+  EXPECT_GT(created.size(), 0.8 * common.size());  // Nearly every co-visible point is recovered.
+  // With a 0.15 m baseline at ~3 m and 0.5-0.7 px noise, DLT depth noise is several cm; a wrong
+  // correspondence would be off by metres. Median small, gross errors (> 0.3 m) nearly absent.
+  std::vector<double> errors;
+  for (LandmarkId lm : created) {
+    errors.push_back(NearestWorldPointDistance(world, Rigid3d(), map.landmark(lm).point_in_world));
+    EXPECT_EQ(map.landmark(lm).NumObservations(), 2);
+  }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LT(errors[errors.size() / 2], 0.04);
+  const auto gross = std::count_if(errors.begin(), errors.end(), [](double e) { return e > 0.3; });
+  EXPECT_LT(gross, 0.02 * errors.size());
+}
+
+class MapperTest : public ::testing::Test {
+ protected:
+  MapperTest() : world_(9) {}
+  FeatureWorld world_;
+};
+
+// Runs 150 frames; returns the translational RMSE (m) and fills the number of mapped keyframes.
+double RunPath(const FeatureWorld& world, bool with_mapper, Map* map, int* mapped) {
+  Tracker tracker(world.sensor(), TrackerOptions(), map);
+  LocalMapper mapper(world.sensor(), LocalMapperOptions(), map);
+  double sum_sq = 0.0;
+  *mapped = 0;
+  for (int k = 0; k < 150; ++k) {
+    Frame frame(k, k / 30.0, world.Observe(FeatureWorld::WorldFromCam(k), 2000 + k));
+    const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
+    EXPECT_TRUE(r.pose_valid) << k;
+    if (with_mapper && r.new_keyframe != kNoKeyframe) {
+      mapper.ProcessOne(r.new_keyframe);
+      ++*mapped;
+    }
+    const Rigid3d truth = testing::TruthInFirstCamera(k);
+    sum_sq += (r.cam_from_world.Inverse().translation - truth.Inverse().translation).squaredNorm();
+  }
+  return std::sqrt(sum_sq / 150.0);
+}
+
+TEST_F(MapperTest, MappingImprovesTrackingAccuracy) {
+  Map tracking_only_map, map;
+  int unused = 0, mapped = 0;
+  const double rmse_tracking_only = RunPath(world_, false, &tracking_only_map, &unused);
+  const double rmse = RunPath(world_, true, &map, &mapped);
+  EXPECT_GE(mapped, 4);
+  EXPECT_LT(rmse, 0.012);
+  EXPECT_LT(rmse, rmse_tracking_only);
+  // Keyframes left after culling are accurate after bundle adjustment.
+  map.Read([&](const MapData& data) {
+    for (const auto& [id, kf] : data.keyframes()) {
+      const Rigid3d truth = testing::TruthInFirstCamera(static_cast<int>(kf.frame_id));
+      EXPECT_LT((kf.CameraCenterInWorld() - truth.Inverse().translation).norm(), 0.02) << "keyframe " << id;
+    }
+    return 0;
+  });
+}
+
+TEST_F(MapperTest, LocalBundleAdjustmentPullsBackPerturbedKeyframe) {
+  Map map;
+  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+  LocalMapperOptions options;
+  options.keyframe_culling = false;
+  LocalMapper mapper(world_.sensor(), options, &map);
+  KeyframeId last = kNoKeyframe;
+  for (int k = 0; k < 120; ++k) {
+    Frame frame(k, k / 30.0, world_.Observe(FeatureWorld::WorldFromCam(k), 3000 + k));
+    const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
+    if (r.new_keyframe != kNoKeyframe) {
+      mapper.ProcessOne(r.new_keyframe);
+      last = r.new_keyframe;
+    }
+  }
+  ASSERT_NE(last, kNoKeyframe);
+  const FrameId frame_id = map.Read([&](const MapData& m) { return m.keyframe(last).frame_id; });
+  const Eigen::Vector3d truth_center = testing::TruthInFirstCamera(static_cast<int>(frame_id)).Inverse().translation;
+  map.Write([&](MapData& m) {
+    Rigid3d& pose = m.keyframe(last).cam_from_world;
+    pose.translation += Eigen::Vector3d(0.05, -0.03, 0.04);
+    return 0;
+  });
+  const LocalBaStats stats = RunLocalBundleAdjustment(&map, last, world_.sensor(), options);
+  EXPECT_GT(stats.free_keyframes, 1);
+  EXPECT_LT(stats.final_cost, stats.initial_cost);
+  const Eigen::Vector3d center = map.Read([&](const MapData& m) { return m.keyframe(last).CameraCenterInWorld(); });
+  EXPECT_LT((center - truth_center).norm(), 0.01);
+}
+
+TEST_F(MapperTest, CullsRedundantKeyframesOfStaticCamera) {
+  // Six keyframes at the same pose, all observing the same landmarks (known correspondences).
+  Map map;
+  const Rigid3d cam_from_world = FeatureWorld::WorldFromCam(0).Inverse();
+  std::vector<KeyframeId> ids;
+  map.Write([&](MapData& data) {
+    std::map<int, LandmarkId> landmark_of_point;
+    for (int k = 0; k < 6; ++k) {
+      std::vector<int> point_ids;
+      Keyframe kf;
+      kf.features = world_.Observe(FeatureWorld::WorldFromCam(0), 5000 + k, 0.5, &point_ids);
+      kf.cam_from_world = cam_from_world;
+      const KeyframeId id = data.AddKeyframe(kf);
+      ids.push_back(id);
+      for (size_t i = 0; i < point_ids.size(); ++i) {
+        auto it = landmark_of_point.find(point_ids[i]);
+        if (it == landmark_of_point.end()) {
+          Landmark lm;
+          lm.point_in_world = world_.points()[point_ids[i]];
+          lm.first_keyframe = id;
+          it = landmark_of_point.emplace(point_ids[i], data.AddLandmark(lm)).first;
+        }
+        data.AddObservation(it->second, id, static_cast<int>(i));
+      }
+    }
+    for (KeyframeId id : ids) data.UpdateConnections(id);
+    return 0;
+  });
+  LocalMapperOptions options;
+  options.local_bundle_adjustment = false;
+  LocalMapper mapper(world_.sensor(), options, &map);
+  const MapperStepStats stats = mapper.ProcessOne(ids.back());
+  // Each of keyframes 1..4 is redundant; the first keyframe (root) and the processed one stay,
+  // and culling stops once fewer than 3 other observers remain for the rest.
+  EXPECT_GE(stats.culled_keyframes, 2);
+  const size_t left = map.Read([](const MapData& m) { return m.NumKeyframes(); });
+  EXPECT_EQ(left, ids.size() - stats.culled_keyframes);
+  EXPECT_TRUE(map.Read([&](const MapData& m) { return m.HasKeyframe(ids.front()) && m.HasKeyframe(ids.back()); }));
+}
+
+}  // namespace
+}  // namespace dynorb

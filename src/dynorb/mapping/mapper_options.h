@@ -1,0 +1,25 @@
+// Options of the local mapper (defaults: ORB-SLAM2's RGB-D values).
+#pragma once
+
+#include "dynorb/optimization/bundle_adjuster.h"
+
+namespace dynorb {
+
+struct LocalMapperOptions {
+  int triangulation_neighbours = 10;     // Best covisibles searched for new landmarks.
+  int fusion_neighbours = 10;            // Best covisibles (first ring) for fusion ...
+  int fusion_second_neighbours = 5;      // ... and best covisibles of each (second ring).
+  double fuse_radius_px = 3.0;           // Projection search radius (level 0) for fusion.
+  int strict_max_distance = 50;          // Descriptor distance for fusion / triangulation (TH_LOW).
+  double min_found_ratio = 0.25;         // Recent landmarks found in fewer frames than this
+                                         // fraction of those that predicted them are culled.
+  double redundant_ratio = 0.9;          // A keyframe whose close landmarks are this fraction
+  int redundant_observers = 3;           // seen by >= this many other keyframes is culled.
+  bool local_bundle_adjustment = true;
+  bool keyframe_culling = true;
+  BundleAdjusterOptions bundle_adjustment;
+
+  void Validate() const;  // Throws InputError.
+};
+
+}  // namespace dynorb

@@ -1,0 +1,90 @@
+#include "dynorb/tracking/relocalizer.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "dynorb/optimization/pose_optimizer.h"
+#include "dynorb/tracking/local_map.h"
+#include "dynorb/tracking/projection_search.h"
+
+namespace dynorb {
+namespace {
+
+constexpr int kMinMatches = 15;
+constexpr int kMinInliers = 50;
+
+int Optimize(const RgbdSensor& sensor, const PoseOptimizerOptions& options, Frame* frame) {
+  std::vector<PoseObservation> observations;
+  std::vector<int> index;
+  for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+    if (frame->landmarks[i] == kNoLandmark) continue;
+    observations.push_back({frame->landmark_points[i], frame->features->Observation(static_cast<int>(i))});
+    index.push_back(static_cast<int>(i));
+  }
+  if (observations.size() < 3) return 0;
+  const PoseOptimizerResult r = OptimizePose(sensor.camera, sensor.bf, observations, frame->cam_from_world, options);
+  frame->cam_from_world = r.cam_from_world;
+  for (size_t k = 0; k < index.size(); ++k) {
+    if (!r.inlier[k]) frame->landmarks[index[k]] = kNoLandmark;
+  }
+  return r.num_inliers;
+}
+
+}  // namespace
+
+bool Relocalizer::Relocalize(const Map& map, Frame* frame) const {
+  return map.Read([&](const MapData& data) {
+    int tried = 0;
+    for (auto it = data.keyframes().rbegin(); it != data.keyframes().rend(); ++it) {
+      if (tried++ >= options_.relocalization_candidates) break;
+      if (TryCandidate(data, it->first, frame)) return true;
+    }
+    frame->ResetMatches();
+    return false;
+  });
+}
+
+bool Relocalizer::TryCandidate(const MapData& map, KeyframeId candidate, Frame* frame) const {
+  frame->ResetMatches();
+  const std::vector<FrameLandmarkMatch> matches =
+      MatchByDescriptor(*frame->features, map.keyframe(candidate), map, options_.matcher);
+  if (static_cast<int>(matches.size()) < kMinMatches) return false;
+
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  for (const FrameLandmarkMatch& m : matches) {
+    object.emplace_back(m.point_in_world.x(), m.point_in_world.y(), m.point_in_world.z());
+    image.push_back(frame->features->keypoint(m.keypoint).pt);
+  }
+  cv::Mat k;
+  cv::eigen2cv(sensor_.camera.K(), k);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  cv::setRNGSeed(static_cast<int>(frame->id));  // Deterministic RANSAC.
+  const bool ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false, 300, 4.0f, 0.99, inliers,
+                                     cv::SOLVEPNP_EPNP);
+  if (!ok || static_cast<int>(inliers.size()) < options_.min_frame_inliers) return false;
+  cv::Mat r;
+  cv::Rodrigues(rvec, r);
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  cv::cv2eigen(r, rotation);
+  cv::cv2eigen(tvec, translation);
+  frame->cam_from_world = Rigid3d(rotation, translation);
+  for (int i : inliers) frame->SetMatch(matches[i].keypoint, matches[i].landmark, matches[i].point_in_world);
+
+  int good = Optimize(sensor_, options_.pose, frame);
+  if (good < options_.min_frame_inliers) return false;
+  if (good < kMinInliers) {
+    frame->reference_keyframe = candidate;
+    const LocalMap local = BuildLocalMap(map, *frame, options_.max_local_keyframes);
+    MatcherOptions wide = options_.matcher;
+    SearchLocalMap(frame, local, sensor_, 10.0 / 2.5, wide);
+    good = Optimize(sensor_, options_.pose, frame);
+  }
+  if (good < kMinInliers) return false;
+  frame->reference_keyframe = candidate;
+  return true;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,281 @@
+#include "dynorb/tracking/tracker.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/timer.h"
+#include "dynorb/tracking/local_map.h"
+#include "dynorb/tracking/relocalizer.h"
+
+namespace dynorb {
+
+void TrackerOptions::Validate() const {
+  if (min_init_points < 10 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
+      min_local_map_inliers < 3 || max_local_keyframes < 1 || max_frames_between_keyframes < 1 ||
+      reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1) {
+    throw InputError("tracker options out of range (see tracking/tracker_options.h)");
+  }
+  pose.Validate();
+}
+
+const char* ToString(TrackingState state) {
+  switch (state) {
+    case TrackingState::kNotInitialized: return "not_initialized";
+    case TrackingState::kOk: return "ok";
+    case TrackingState::kLost: return "lost";
+  }
+  return "?";
+}
+
+Tracker::Tracker(const RgbdSensor& sensor, const TrackerOptions& options, Map* map)
+    : sensor_(sensor), options_(options), map_(map) {
+  options_.Validate();
+}
+
+TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
+  TrackingResult result;
+  if (state_ == TrackingState::kNotInitialized) {
+    if (Initialize(&frame)) {
+      state_ = TrackingState::kOk;
+      result.new_keyframe = reference_keyframe_;
+      result.pose_valid = true;
+      result.num_inliers = frame.NumMatches();
+    }
+    result.state = state_;
+    result.cam_from_world = frame.cam_from_world;
+    result.reference_keyframe = reference_keyframe_;
+    if (state_ == TrackingState::kOk) last_frame_ = std::move(frame);
+    return result;
+  }
+
+  bool ok = false;
+  if (state_ == TrackingState::kOk) {
+    RefreshLandmarkPoints(&last_frame_);
+    const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
+    if (velocity_ && !just_relocalized) {
+      ok = TrackWithMotionModel(&frame);
+      if (!ok) ok = TrackReferenceKeyframe(&frame);
+    } else {
+      ok = TrackReferenceKeyframe(&frame);
+    }
+  } else {
+    ok = Relocalize(&frame);
+    if (ok) {
+      result.relocalized = true;
+      ever_relocalized_ = true;
+      last_relocalization_frame_ = frame.id;
+    }
+  }
+
+  int inliers = 0;
+  if (ok) {
+    Stopwatch watch;
+    ok = TrackLocalMap(&frame, &inliers);
+    result.local_map_ms = watch.ElapsedMs();
+  }
+  state_ = ok ? TrackingState::kOk : TrackingState::kLost;
+  result.state = state_;
+  result.num_inliers = inliers;
+  if (ok) {
+    if (last_frame_.features) velocity_ = frame.cam_from_world * last_frame_.cam_from_world.Inverse();
+    result.pose_valid = true;
+    result.cam_from_world = frame.cam_from_world;
+    if (NeedNewKeyframe(frame, inliers, mapper_idle)) result.new_keyframe = CreateKeyframe(&frame, false);
+    // Outliers do not carry over to the next frame's motion-model search.
+    for (size_t i = 0; i < frame.landmarks.size(); ++i) {
+      if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
+    }
+    result.reference_keyframe = reference_keyframe_;
+    last_frame_ = std::move(frame);
+  } else {
+    velocity_.reset();
+  }
+  return result;
+}
+
+bool Tracker::Initialize(Frame* frame) {
+  const FrameFeatures& f = *frame->features;
+  int with_depth = 0;
+  for (int i = 0; i < f.size(); ++i) with_depth += f.HasDepth(i) ? 1 : 0;
+  if (with_depth < options_.min_init_points) return false;
+  frame->cam_from_world = Rigid3d::Identity();
+  CreateKeyframe(frame, /*all_depth_points=*/true);
+  return true;
+}
+
+void Tracker::RefreshLandmarkPoints(Frame* frame) const {
+  map_->Read([frame](const MapData& map) {
+    for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+      const LandmarkId lm = frame->landmarks[i];
+      if (lm == kNoLandmark) continue;
+      if (map.HasLandmark(lm)) {
+        frame->landmark_points[i] = map.landmark(lm).point_in_world;
+      } else {
+        frame->landmarks[i] = kNoLandmark;
+      }
+    }
+    return 0;
+  });
+}
+
+int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
+  std::vector<PoseObservation> observations;
+  std::vector<int> index;
+  for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+    if (frame->landmarks[i] == kNoLandmark) continue;
+    PoseObservation obs;
+    obs.point_in_world = frame->landmark_points[i];
+    obs.keypoint = frame->features->Observation(static_cast<int>(i));
+    observations.push_back(obs);
+    index.push_back(static_cast<int>(i));
+  }
+  if (observations.size() < 3) return 0;
+  const PoseOptimizerResult r = OptimizePose(sensor_.camera, sensor_.bf, observations, frame->cam_from_world, options_.pose);
+  frame->cam_from_world = r.cam_from_world;
+  for (size_t k = 0; k < index.size(); ++k) {
+    frame->outlier[index[k]] = !r.inlier[k];
+    if (!r.inlier[k] && drop_outliers) {
+      frame->landmarks[index[k]] = kNoLandmark;
+      frame->outlier[index[k]] = false;
+    }
+  }
+  return r.num_inliers;
+}
+
+bool Tracker::TrackWithMotionModel(Frame* frame) {
+  frame->cam_from_world = *velocity_ * last_frame_.cam_from_world;
+  frame->ResetMatches();
+  int matches = SearchFromLastFrame(frame, last_frame_, sensor_, options_.motion_radius_px, options_.matcher);
+  if (matches < options_.min_motion_matches) {
+    frame->ResetMatches();
+    matches = SearchFromLastFrame(frame, last_frame_, sensor_, 2.0 * options_.motion_radius_px, options_.matcher);
+  }
+  if (matches < options_.min_motion_matches) return false;
+  return OptimizeAndCount(frame, true) >= options_.min_frame_inliers;
+}
+
+bool Tracker::TrackReferenceKeyframe(Frame* frame) {
+  frame->ResetMatches();
+  frame->cam_from_world = last_frame_.cam_from_world;
+  const std::vector<FrameLandmarkMatch> matches = map_->Read([&](const MapData& map) {
+    if (!map.HasKeyframe(reference_keyframe_)) return std::vector<FrameLandmarkMatch>{};
+    return MatchByDescriptor(*frame->features, map.keyframe(reference_keyframe_), map, options_.matcher);
+  });
+  if (static_cast<int>(matches.size()) < 15) return false;
+  for (const FrameLandmarkMatch& m : matches) frame->SetMatch(m.keypoint, m.landmark, m.point_in_world);
+  return OptimizeAndCount(frame, true) >= options_.min_frame_inliers;
+}
+
+bool Tracker::Relocalize(Frame* frame) {
+  Relocalizer relocalizer(sensor_, options_);
+  return relocalizer.Relocalize(*map_, frame);
+}
+
+bool Tracker::TrackLocalMap(Frame* frame, int* inliers) {
+  std::vector<LandmarkId> visible;
+  const LocalMap local =
+      map_->Read([&](const MapData& map) { return BuildLocalMap(map, *frame, options_.max_local_keyframes); });
+  if (local.reference_keyframe != kNoKeyframe) reference_keyframe_ = local.reference_keyframe;
+  frame->reference_keyframe = reference_keyframe_;
+  const bool recent_reloc = ever_relocalized_ && frame->id < last_relocalization_frame_ + 2;
+  SearchLocalMap(frame, local, sensor_,
+                 recent_reloc ? options_.relocalized_radius_factor : options_.local_map_radius_factor,
+                 options_.matcher, &visible);
+  *inliers = OptimizeAndCount(frame, false);
+  // Visibility statistics feed landmark culling in the mapper.
+  map_->Write([&](MapData& map) {
+    for (LandmarkId lm : visible) {
+      if (map.HasLandmark(lm)) ++map.landmark(lm).num_visible;
+    }
+    for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+      const LandmarkId lm = frame->landmarks[i];
+      if (lm != kNoLandmark && !frame->outlier[i] && map.HasLandmark(lm)) ++map.landmark(lm).num_found;
+    }
+    return 0;
+  });
+  const int needed = recent_reloc ? options_.min_local_map_inliers_after_reloc : options_.min_local_map_inliers;
+  return *inliers >= needed;
+}
+
+bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle) const {
+  const auto [num_keyframes, reference_matches] = map_->Read([&](const MapData& map) {
+    const int n = static_cast<int>(map.NumKeyframes());
+    const int min_obs = n <= 2 ? 2 : 3;  // Weighted (ORB-SLAM2): a depth observation counts 2.
+    const int ref = map.HasKeyframe(reference_keyframe_) ? map.NumTrackedLandmarks(reference_keyframe_, min_obs) : 0;
+    return std::make_pair(n, ref);
+  });
+  const int max_frames = options_.max_frames_between_keyframes;
+  if (ever_relocalized_ && frame.id < last_relocalization_frame_ + max_frames && num_keyframes > max_frames) {
+    return false;
+  }
+  int tracked_close = 0, untracked_close = 0;
+  const FrameFeatures& f = *frame.features;
+  for (int i = 0; i < f.size(); ++i) {
+    if (!f.IsClose(i, sensor_.th_depth_m)) continue;
+    if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) {
+      ++tracked_close;
+    } else {
+      ++untracked_close;
+    }
+  }
+  const bool need_close = tracked_close < options_.close_tracked_max && untracked_close > options_.close_untracked_min;
+  const double ratio = num_keyframes < 2 ? 0.4 : options_.reference_ratio;
+  const bool c1a = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(max_frames);
+  const bool c1b = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.min_frames_between_keyframes) &&
+                   mapper_idle;
+  const bool c1c = inliers < reference_matches * 0.25 || need_close;
+  const bool c2 = (inliers < reference_matches * ratio || need_close) && inliers > 15;
+  return (c1a || c1b || c1c) && c2;
+}
+
+KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points) {
+  const FrameFeatures& f = *frame->features;
+  // Keypoints with depth, nearest first.
+  std::vector<int> by_depth;
+  for (int i = 0; i < f.size(); ++i) {
+    if (f.HasDepth(i)) by_depth.push_back(i);
+  }
+  std::stable_sort(by_depth.begin(), by_depth.end(), [&f](int a, int b) { return f.depth(a) < f.depth(b); });
+  const Rigid3d world_from_cam = frame->cam_from_world.Inverse();
+
+  const KeyframeId id = map_->Write([&](MapData& map) {
+    Keyframe kf;
+    kf.frame_id = frame->id;
+    kf.timestamp_s = frame->timestamp_s;
+    kf.cam_from_world = frame->cam_from_world;
+    kf.features = frame->features;
+    const KeyframeId kf_id = map.AddKeyframe(std::move(kf));
+    for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+      const LandmarkId lm = frame->landmarks[i];
+      if (lm == kNoLandmark || frame->outlier[i] || !map.HasLandmark(lm)) continue;
+      if (map.landmark(lm).observations.count(kf_id) == 0) map.AddObservation(lm, kf_id, static_cast<int>(i));
+    }
+    int points = 0;
+    for (int i : by_depth) {
+      const bool matched = frame->landmarks[i] != kNoLandmark && !frame->outlier[i];
+      if (!matched) {
+        Landmark lm;
+        lm.point_in_world = world_from_cam * f.PointInCam(i, sensor_.camera);
+        lm.first_keyframe = kf_id;
+        lm.reference_keyframe = kf_id;
+        lm.first_frame = frame->id;
+        const LandmarkId lm_id = map.AddLandmark(std::move(lm));
+        map.AddObservation(lm_id, kf_id, i);
+        map.UpdateLandmarkGeometry(lm_id);
+        map.UpdateLandmarkDescriptor(lm_id);
+        frame->SetMatch(i, lm_id, map.landmark(lm_id).point_in_world);
+      }
+      ++points;
+      if (!all_depth_points && f.depth(i) > sensor_.th_depth_m && points > options_.new_close_points) break;
+    }
+    map.UpdateConnections(kf_id);
+    return kf_id;
+  });
+  reference_keyframe_ = id;
+  frame->reference_keyframe = id;
+  last_keyframe_frame_ = frame->id;
+  return id;
+}
+
+}  // namespace dynorb

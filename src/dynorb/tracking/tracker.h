@@ -1,0 +1,73 @@
+// Tracker: estimates the pose of each RGB-D frame against the map (ORB-SLAM2's Tracking).
+//
+// State machine: kNotInitialized -> (first frame with >= min_init_points depth keypoints:
+// first keyframe, world = that camera) -> kOk <-> kLost. In kOk: constant-velocity motion model
+// (projection search from the last frame), falling back to brute-force matching against the
+// reference keyframe; then the local map is projected and the pose refined (pose-only BA with
+// chi^2 outlier rejection); finally the keyframe decision. In kLost: relocalisation (descriptor
+// matching against recent keyframes, PnP RANSAC, pose-only BA). A lost frame never aborts a run.
+//
+// ProcessOne() knows nothing about threads. It reads the Map through snapshots and writes only
+// when it creates a keyframe (plus visibility counters). Not thread-safe itself: one caller.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "dynorb/map/map.h"
+#include "dynorb/tracking/frame.h"
+#include "dynorb/tracking/tracker_options.h"
+
+namespace dynorb {
+
+enum class TrackingState { kNotInitialized, kOk, kLost };
+const char* ToString(TrackingState state);
+
+struct TrackingResult {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool pose_valid = false;
+  Rigid3d cam_from_world;
+  KeyframeId reference_keyframe = kNoKeyframe;
+  KeyframeId new_keyframe = kNoKeyframe;  // Set when this frame became a keyframe.
+  int num_inliers = 0;
+  bool relocalized = false;
+  double local_map_ms = 0.0;               // Time spent on local-map tracking.
+};
+
+class Tracker {
+ public:
+  Tracker(const RgbdSensor& sensor, const TrackerOptions& options, Map* map);
+
+  // Tracks one frame. `mapper_idle`: the local mapper has no queued keyframes (always true in
+  // sequential mode).
+  TrackingResult ProcessOne(Frame frame, bool mapper_idle);
+
+  TrackingState state() const { return state_; }
+  const Frame& last_frame() const { return last_frame_; }
+
+ private:
+  bool Initialize(Frame* frame);
+  bool TrackWithMotionModel(Frame* frame);
+  bool TrackReferenceKeyframe(Frame* frame);
+  bool Relocalize(Frame* frame);
+  bool TrackLocalMap(Frame* frame, int* inliers);
+  int OptimizeAndCount(Frame* frame, bool drop_outliers);
+  bool NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle) const;
+  // Inserts the frame as a keyframe and creates landmarks from its depth: every keypoint with depth
+  // (first keyframe) or the nearest ones until new_close_points beyond th_depth (ORB-SLAM2).
+  KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points);
+  void RefreshLandmarkPoints(Frame* frame) const;
+
+  RgbdSensor sensor_;
+  TrackerOptions options_;
+  Map* map_;
+  TrackingState state_ = TrackingState::kNotInitialized;
+  Frame last_frame_;
+  std::optional<Rigid3d> velocity_;  // current_from_last (cam_from_cam).
+  KeyframeId reference_keyframe_ = kNoKeyframe;
+  FrameId last_keyframe_frame_ = 0;
+  FrameId last_relocalization_frame_ = 0;
+  bool ever_relocalized_ = false;
+};
+
+}  // namespace dynorb

@@ -1,0 +1,32 @@
+// Options of the tracker (defaults: ORB-SLAM2's RGB-D values).
+#pragma once
+
+#include "dynorb/optimization/pose_optimizer.h"
+#include "dynorb/tracking/projection_search.h"
+
+namespace dynorb {
+
+struct TrackerOptions {
+  int min_init_points = 500;               // Keypoints with depth needed to initialise.
+  double motion_radius_px = 7.0;           // Search radius (level 0) for motion-model tracking.
+  double local_map_radius_factor = 3.0;    // Radius factor for local-map search.
+  double relocalized_radius_factor = 5.0;  // Same, for the two frames after a relocalisation.
+  int min_motion_matches = 20;             // Below: search again with twice the radius.
+  int min_frame_inliers = 10;              // Inliers needed after motion / reference tracking.
+  int min_local_map_inliers = 30;          // Inliers needed after local-map tracking.
+  int min_local_map_inliers_after_reloc = 50;
+  int max_local_keyframes = 80;
+  int max_frames_between_keyframes = 30;   // Insert at least every fps frames (c1a).
+  int min_frames_between_keyframes = 0;
+  double reference_ratio = 0.75;           // Insert when tracking < ratio x reference matches.
+  int close_tracked_max = 100;             // "Need close points": tracked close < this ...
+  int close_untracked_min = 70;            // ... and untracked close > this.
+  int new_close_points = 100;              // Landmarks created from depth per new keyframe.
+  int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
+  PoseOptimizerOptions pose;
+  MatcherOptions matcher;
+
+  void Validate() const;  // Throws InputError.
+};
+
+}  // namespace dynorb

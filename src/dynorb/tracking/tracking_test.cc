@@ -1,0 +1,126 @@
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "dynorb/tracking/projection_search.h"
+#include "dynorb/tracking/test_world.h"
+#include "dynorb/tracking/tracker.h"
+
+namespace dynorb {
+namespace {
+
+double TranslationError(const Rigid3d& estimate, const Rigid3d& truth) {
+  return (estimate.Inverse().translation - truth.Inverse().translation).norm();
+}
+double RotationErrorDeg(const Rigid3d& estimate, const Rigid3d& truth) {
+  return RotationAngleRad(estimate.rotation * truth.rotation.conjugate()) * 180.0 / M_PI;
+}
+
+TEST(OrientationConsistent, RejectsMinorityRotation) {
+  // 90 matches rotated by 30 deg, 5 by 200 deg, 5 by 100 deg: the minorities hold < 10 % of the
+  // dominant bin and are rejected.
+  std::vector<float> deltas(100, 30.0f);
+  for (int i = 0; i < 100; i += 20) deltas[i] = 200.0f;
+  for (int i = 10; i < 100; i += 20) deltas[i] = 100.0f;
+  const std::vector<bool> keep = OrientationConsistent(deltas);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(keep[i], deltas[i] == 30.0f) << i;
+  // Three equally supported bins are all kept.
+  EXPECT_EQ(OrientationConsistent({10.0f, 100.0f, 250.0f}), (std::vector<bool>{true, true, true}));
+}
+
+TEST(PredictLevel, FollowsScaleFactor) {
+  const ScaleLevels levels(8, 1.2);
+  EXPECT_EQ(PredictLevel(2.0, 2.0, levels), 0);
+  EXPECT_EQ(PredictLevel(2.0 * std::pow(1.2, 1.5), 2.0, levels), 2);
+  EXPECT_EQ(PredictLevel(100.0, 1.0, levels), 7);
+}
+
+TEST(SearchFromLastFrame, MatchesUnderKnownMotion) {
+  testing::FeatureWorld world(1);
+  Frame last(0, 0.0, world.Observe(testing::FeatureWorld::WorldFromCam(0), 100));
+  last.cam_from_world = testing::FeatureWorld::WorldFromCam(0).Inverse();
+  // Give every keypoint with depth a "landmark" at its true back-projection.
+  for (int i = 0; i < last.features->size(); ++i) {
+    const Eigen::Vector3d p = last.cam_from_world.Inverse() * last.features->PointInCam(i, world.sensor().camera);
+    last.SetMatch(i, static_cast<LandmarkId>(i), p);
+  }
+  Frame current(1, 0.033, world.Observe(testing::FeatureWorld::WorldFromCam(3), 101));
+  current.cam_from_world = testing::FeatureWorld::WorldFromCam(3).Inverse();
+  const int matches = SearchFromLastFrame(&current, last, world.sensor(), 7.0);
+  EXPECT_GT(matches, 0.8 * last.features->size());
+  // Every match must be geometrically right: the landmark projects within a few pixels.
+  int wrong = 0;
+  for (int i = 0; i < current.features->size(); ++i) {
+    if (current.landmarks[i] == kNoLandmark) continue;
+    const Eigen::Vector2d uv = world.sensor().camera.Project(current.cam_from_world * current.landmark_points[i]);
+    const cv::Point2f pt = current.features->keypoint(i).pt;
+    wrong += (uv - Eigen::Vector2d(pt.x, pt.y)).norm() > 5.0 ? 1 : 0;
+  }
+  EXPECT_LT(wrong, 0.01 * matches);
+}
+
+class TrackerTest : public ::testing::Test {
+ protected:
+  TrackerTest() : world_(7) {}
+  TrackingResult Feed(Tracker& tracker, int path_frame, FrameId id) {
+    Frame frame(id, id / 30.0, world_.Observe(testing::FeatureWorld::WorldFromCam(path_frame), 1000 + id));
+    return tracker.ProcessOne(std::move(frame), true);
+  }
+  testing::FeatureWorld world_;
+};
+
+TEST_F(TrackerTest, TracksSmoothPathAccurately) {
+  Map map;
+  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+  double max_t = 0.0, max_r = 0.0;
+  int keyframes = 0;
+  for (int k = 0; k < 90; ++k) {
+    const TrackingResult r = Feed(tracker, k, k);
+    ASSERT_TRUE(r.pose_valid) << "frame " << k << " state " << ToString(r.state);
+    keyframes += r.new_keyframe != kNoKeyframe ? 1 : 0;
+    max_t = std::max(max_t, TranslationError(r.cam_from_world, testing::TruthInFirstCamera(k)));
+    max_r = std::max(max_r, RotationErrorDeg(r.cam_from_world, testing::TruthInFirstCamera(k)));
+  }
+  EXPECT_LT(max_t, 0.02);
+  EXPECT_LT(max_r, 0.5);
+  EXPECT_GE(keyframes, 3);
+  EXPECT_EQ(map.Read([](const MapData& m) { return m.NumKeyframes(); }), static_cast<size_t>(keyframes));
+}
+
+TEST_F(TrackerTest, RelocalizesAfterLosingTrack) {
+  Map map;
+  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+  FrameId id = 0;
+  for (int k = 0; k < 60; ++k) ASSERT_TRUE(Feed(tracker, k, id++).pose_valid);
+  // Three frames without any features: lost, but the run goes on.
+  for (int k = 0; k < 3; ++k) {
+    OrbFeatures empty;
+    empty.descriptors = cv::Mat(0, 32, CV_8U);
+    Frame blank(id++, 0.0, std::make_shared<const FrameFeatures>(empty, std::vector<float>{}, world_.sensor(),
+                                                                 ScaleLevels(8, 1.2)));
+    const TrackingResult r = tracker.ProcessOne(std::move(blank), true);
+    EXPECT_FALSE(r.pose_valid);
+    EXPECT_EQ(r.state, TrackingState::kLost);
+  }
+  // Back at a place seen before (a jump along the path): relocalised with the right pose.
+  const TrackingResult r = Feed(tracker, 25, id++);
+  ASSERT_TRUE(r.pose_valid);
+  EXPECT_TRUE(r.relocalized);
+  EXPECT_LT(TranslationError(r.cam_from_world, testing::TruthInFirstCamera(25)), 0.02);
+  // And tracking continues from there.
+  for (int k = 26; k < 35; ++k) EXPECT_TRUE(Feed(tracker, k, id++).pose_valid) << k;
+}
+
+TEST_F(TrackerTest, SequentialRunIsDeterministic) {
+  std::vector<Eigen::Matrix4d> runs[2];
+  for (auto& poses : runs) {
+    Map map;
+    Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+    for (int k = 0; k < 30; ++k) poses.push_back(Feed(tracker, k, k).cam_from_world.ToMatrix());
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+}
+
+}  // namespace
+}  // namespace dynorb
