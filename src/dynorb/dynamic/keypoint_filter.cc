@@ -1,0 +1,2 @@
+// KeypointFilter is an interface; this file anchors the module library.
+#include "dynorb/dynamic/keypoint_filter.h"

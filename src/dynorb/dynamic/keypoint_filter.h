@@ -1,0 +1,42 @@
+// KeypointFilter: the hook of the dynamic modes. The System calls it after ORB detection and
+// before description, so keypoints it rejects never get descriptors, never reach matching, pose
+// optimisation or the map. Implementations: FAST geometric cues, detector masks, file masks, ...
+// Called from the tracking thread only, once per frame in order; may keep state between frames.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "dynorb/core/ids.h"
+#include "dynorb/core/rigid3.h"
+#include "dynorb/features/orb_extractor.h"
+
+namespace dynorb {
+
+struct FilterInput {
+  FrameId frame_id = 0;
+  double timestamp_s = 0.0;
+  const cv::Mat* bgr = nullptr;      // CV_8UC3.
+  const cv::Mat* gray = nullptr;     // CV_8UC1, what ORB was detected on.
+  const cv::Mat* depth_m = nullptr;  // CV_32F metres, 0 = no depth.
+  const KeypointSet* keypoints = nullptr;
+  // Motion-model prediction of the camera pose change since the previous frame, when tracking.
+  std::optional<Rigid3d> predicted_cam_from_previous_cam;
+};
+
+struct FilterOutput {
+  std::vector<bool> keep;  // One flag per keypoint: false = dynamic, removed before description.
+  cv::Mat dynamic_mask;    // Optional CV_8U mask (255 = dynamic) for overlays and statistics.
+};
+
+class KeypointFilter {
+ public:
+  virtual ~KeypointFilter() = default;
+  virtual std::string name() const = 0;
+  virtual FilterOutput Filter(const FilterInput& input) = 0;
+};
+
+}  // namespace dynorb

@@ -1,0 +1,186 @@
+#include "dynorb/system/system.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/timer.h"
+
+namespace dynorb {
+
+void SystemOptions::Validate() const {
+  if (sensor.camera.fx <= 0.0 || sensor.camera.fy <= 0.0 || sensor.camera.width <= 0 || sensor.camera.height <= 0) {
+    throw InputError("camera intrinsics and image size must be positive");
+  }
+  if (sensor.bf <= 0.0 || sensor.th_depth_m <= 0.0) throw InputError("Camera.bf and ThDepth must be positive");
+  if (mapper_queue_capacity < 1) throw InputError("mapper queue capacity must be >= 1");
+  orb.Validate();
+  tracker.Validate();
+  mapper.Validate();
+}
+
+System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> filter)
+    : options_((options.Validate(), options)),
+      extractor_(options.orb),
+      filter_(std::move(filter)),
+      tracker_(options.sensor, options.tracker, &map_),
+      mapper_(options.sensor, options.mapper, &map_),
+      queue_(static_cast<size_t>(options.mapper_queue_capacity)) {
+  if (options_.run_mode == RunMode::kParallel) mapper_thread_ = std::thread([this] { MapperLoop(); });
+}
+
+System::~System() { Finish(); }
+
+void System::Finish() {
+  if (finished_) return;
+  finished_ = true;
+  queue_.Close();
+  if (mapper_thread_.joinable()) mapper_thread_.join();
+}
+
+void System::MapperLoop() {
+  KeyframeId kf;
+  while (queue_.Pop(&kf)) {
+    mapper_busy_ = true;
+    const MapperStepStats stats = mapper_.ProcessOne(kf);
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      mapper_stats_.push_back(stats);
+    }
+    mapper_busy_ = false;
+  }
+}
+
+const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m) {
+  if (bgr.type() != CV_8UC3 || depth_m.type() != CV_32FC1 || bgr.size() != depth_m.size()) {
+    throw InputError("ProcessFrame expects a CV_8UC3 image and a CV_32FC1 depth map of the same size");
+  }
+  Stopwatch total;
+  FrameRecord record;
+  record.id = next_frame_id_;
+  record.timestamp_s = timestamp_s;
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+
+  Stopwatch watch;
+  const KeypointSet set = extractor_.Detect(gray);
+  record.timing.detect_ms = watch.ElapsedMs();
+  record.num_keypoints = set.size();
+  if (record_keypoints_) record.detected = set.keypoints;
+
+  std::vector<bool> keep(set.size(), true);
+  if (filter_) {
+    watch.Restart();
+    FilterInput input;
+    input.frame_id = record.id;
+    input.timestamp_s = timestamp_s;
+    input.bgr = &bgr;
+    input.gray = &gray;
+    input.depth_m = &depth_m;
+    input.keypoints = &set;
+    input.predicted_cam_from_previous_cam = last_velocity_;
+    FilterOutput out = filter_->Filter(input);
+    if (out.keep.size() != keep.size()) throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
+    keep = std::move(out.keep);
+    record.timing.filter_ms = watch.ElapsedMs();
+    for (bool k : keep) record.num_filtered += k ? 0 : 1;
+    record.keep = keep;
+  }
+
+  watch.Restart();
+  const OrbFeatures orb = extractor_.DescribeKept(set, keep);
+  auto features = std::make_shared<const FrameFeatures>(orb, depth_m, options_.sensor, extractor_.levels());
+  record.timing.describe_ms = watch.ElapsedMs();
+
+  Track(&record, std::move(features));
+  record.timing.total_ms = total.ElapsedMs();
+  records_.push_back(std::move(record));
+  return records_.back();
+}
+
+const FrameRecord& System::ProcessFeatures(double timestamp_s, std::shared_ptr<const FrameFeatures> features) {
+  Stopwatch total;
+  FrameRecord record;
+  record.id = next_frame_id_;
+  record.timestamp_s = timestamp_s;
+  record.num_keypoints = features->size();
+  Track(&record, std::move(features));
+  record.timing.total_ms = total.ElapsedMs();
+  records_.push_back(std::move(record));
+  return records_.back();
+}
+
+void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features) {
+  ++next_frame_id_;
+  Stopwatch watch;
+  const bool mapper_idle = options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
+  const TrackingResult result = tracker_.ProcessOne(Frame(record->id, record->timestamp_s, std::move(features)), mapper_idle);
+  record->timing.track_ms = watch.ElapsedMs();
+  record->timing.local_map_ms = result.local_map_ms;
+  record->state = result.state;
+  record->pose_valid = result.pose_valid;
+  record->relocalized = result.relocalized;
+  record->num_inliers = result.num_inliers;
+  record->reference_keyframe = result.reference_keyframe;
+  record->new_keyframe = result.new_keyframe != kNoKeyframe;
+
+  if (result.pose_valid) {
+    const Rigid3d reference_pose = map_.Read([&](const MapData& map) {
+      return map.HasKeyframe(result.reference_keyframe) ? map.keyframe(result.reference_keyframe).cam_from_world
+                                                        : map.ResolveKeyframePose(result.reference_keyframe);
+    });
+    record->cam_from_reference = result.cam_from_world * reference_pose.Inverse();
+    // Motion prediction for the next frame's filter: cam_k_from_cam_{k-1}.
+    const FrameRecord* previous = records_.empty() ? nullptr : &records_.back();
+    last_velocity_.reset();
+    if (previous != nullptr && previous->pose_valid && previous->id + 1 == record->id) {
+      const Rigid3d previous_pose = map_.Read([&](const MapData& map) {
+        return previous->cam_from_reference * map.ResolveKeyframePose(previous->reference_keyframe);
+      });
+      last_velocity_ = result.cam_from_world * previous_pose.Inverse();
+    }
+  } else {
+    last_velocity_.reset();
+  }
+
+  if (result.new_keyframe != kNoKeyframe) {
+    if (options_.run_mode == RunMode::kSequential) {
+      watch.Restart();
+      const MapperStepStats stats = mapper_.ProcessOne(result.new_keyframe);
+      record->timing.mapping_ms = watch.ElapsedMs();
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      mapper_stats_.push_back(stats);
+    } else {
+      queue_.Push(result.new_keyframe);
+    }
+  }
+}
+
+Trajectory System::FrameTrajectory() const {
+  return map_.Read([&](const MapData& map) {
+    Trajectory trajectory;
+    for (const FrameRecord& r : records_) {
+      if (!r.pose_valid) continue;
+      const Rigid3d cam_from_world = r.cam_from_reference * map.ResolveKeyframePose(r.reference_keyframe);
+      trajectory.push_back({r.timestamp_s, cam_from_world.Inverse()});
+    }
+    return trajectory;
+  });
+}
+
+Trajectory System::KeyframeTrajectory() const {
+  return map_.Read([&](const MapData& map) {
+    Trajectory trajectory;
+    for (const auto& [id, kf] : map.keyframes()) trajectory.push_back({kf.timestamp_s, kf.cam_from_world.Inverse()});
+    return trajectory;
+  });
+}
+
+std::vector<MapperStepStats> System::mapper_stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return mapper_stats_;
+}
+
+size_t System::NumKeyframes() const { return map_.Read([](const MapData& m) { return m.NumKeyframes(); }); }
+size_t System::NumLandmarks() const { return map_.Read([](const MapData& m) { return m.NumLandmarks(); }); }
+
+}  // namespace dynorb

@@ -1,0 +1,109 @@
+// System: the SLAM facade. Per frame: ORB detection -> optional KeypointFilter (dynamic modes)
+// -> description -> FrameFeatures -> Tracker::ProcessOne -> (new keyframe) LocalMapper.
+//
+// Run modes: kSequential runs the mapper inline right after the frame that created a keyframe
+// (deterministic: same input => bit-identical trajectory); kParallel runs it in a worker thread
+// fed by a bounded queue (ORB-SLAM2's threading; the Map's one lock keeps it consistent).
+// Trajectory(): every tracked frame's pose, stored relative to its reference keyframe and composed
+// with that keyframe's final (bundle-adjusted) pose, as ORB-SLAM2 saves trajectories.
+// Not thread-safe: one caller feeds frames.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "dynorb/core/trajectory.h"
+#include "dynorb/dynamic/keypoint_filter.h"
+#include "dynorb/features/orb_extractor.h"
+#include "dynorb/map/map.h"
+#include "dynorb/mapping/local_mapper.h"
+#include "dynorb/system/blocking_queue.h"
+#include "dynorb/tracking/tracker.h"
+
+namespace dynorb {
+
+enum class RunMode { kSequential, kParallel };
+
+struct SystemOptions {
+  RgbdSensor sensor;
+  OrbOptions orb;
+  TrackerOptions tracker;
+  LocalMapperOptions mapper;
+  RunMode run_mode = RunMode::kSequential;
+  int mapper_queue_capacity = 3;  // Keyframes waiting for the mapper (parallel mode).
+  void Validate() const;          // Throws InputError.
+};
+
+struct FrameTiming {
+  double detect_ms = 0.0, filter_ms = 0.0, describe_ms = 0.0, track_ms = 0.0, local_map_ms = 0.0;
+  double mapping_ms = 0.0;  // Inline mapping (sequential mode) after this frame.
+  double total_ms = 0.0;
+};
+
+struct FrameRecord {
+  FrameId id = 0;
+  double timestamp_s = 0.0;
+  TrackingState state = TrackingState::kNotInitialized;
+  bool pose_valid = false;
+  bool relocalized = false;
+  KeyframeId reference_keyframe = kNoKeyframe;
+  Rigid3d cam_from_reference;  // Pose relative to the reference keyframe when tracked.
+  int num_keypoints = 0;       // Detected.
+  int num_filtered = 0;        // Removed by the keypoint filter.
+  int num_inliers = 0;
+  bool new_keyframe = false;
+  FrameTiming timing;
+  std::vector<bool> keep;      // Filter decision per detected keypoint (empty without a filter).
+  std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
+};
+
+class System {
+ public:
+  explicit System(const SystemOptions& options, std::unique_ptr<KeypointFilter> filter = nullptr);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  // bgr: CV_8UC3; depth_m: CV_32F metres (0 = none), same size.
+  const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m);
+  // Tracking from ready-made features (tests, external front ends).
+  const FrameRecord& ProcessFeatures(double timestamp_s, std::shared_ptr<const FrameFeatures> features);
+  // Waits for the mapper to process every queued keyframe (parallel mode). Idempotent.
+  void Finish();
+
+  Trajectory FrameTrajectory() const;
+  Trajectory KeyframeTrajectory() const;
+  const std::vector<FrameRecord>& records() const { return records_; }
+  std::vector<MapperStepStats> mapper_stats() const;
+  size_t NumKeyframes() const;
+  size_t NumLandmarks() const;
+  const Map& map() const { return map_; }
+  void set_record_keypoints(bool on) { record_keypoints_ = on; }
+
+ private:
+  void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features);
+  void MapperLoop();
+
+  SystemOptions options_;
+  OrbExtractor extractor_;
+  std::unique_ptr<KeypointFilter> filter_;
+  Map map_;
+  Tracker tracker_;
+  LocalMapper mapper_;
+  std::vector<FrameRecord> records_;
+  FrameId next_frame_id_ = 0;
+  bool record_keypoints_ = false;
+  std::optional<Rigid3d> last_velocity_;  // For the filter's motion prediction.
+
+  BlockingQueue<KeyframeId> queue_;
+  std::atomic<bool> mapper_busy_{false};
+  std::thread mapper_thread_;
+  mutable std::mutex stats_mutex_;
+  std::vector<MapperStepStats> mapper_stats_;
+  bool finished_ = false;
+};
+
+}  // namespace dynorb
