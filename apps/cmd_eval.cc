@@ -2,12 +2,11 @@
 // Reads both files, evaluates (dynorb/eval), prints a table, optionally writes JSON and a plot.
 // Output files are opened (validated) before the work and committed atomically at the end, so a
 // failed run leaves no output file behind. Definitions: docs/evaluation.md.
+#include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "command_registry.h"
 #include "dynorb/core/error.h"
@@ -32,7 +31,8 @@ struct EvalCliOptions {
 };
 
 bool EndsWith(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 void RunEval(const EvalCliOptions& cli) {
@@ -46,7 +46,8 @@ void RunEval(const EvalCliOptions& cli) {
   if (!cli.plot_path.empty() && !plot_svg && !EndsWith(cli.plot_path, ".png")) {
     throw InputError("--plot must name a .png or .svg file, got '" + cli.plot_path + "'");
   }
-  if (!cli.json_path.empty() && cli.json_path == cli.plot_path) throw InputError("--json and --plot name the same file");
+  if (!cli.json_path.empty() && cli.json_path == cli.plot_path)
+    throw InputError("--json and --plot name the same file");
 
   // Open outputs first: an unwritable path fails before any work, and nothing is left behind.
   std::unique_ptr<AtomicFile> json_file, plot_file;
@@ -66,7 +67,8 @@ void RunEval(const EvalCliOptions& cli) {
     } else {
       const std::vector<unsigned char> png = RenderPlotPng(canvas);
       if (png.empty()) throw InputError("PNG encoding failed for " + cli.plot_path);
-      plot_file->stream().write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+      plot_file->stream().write(reinterpret_cast<const char*>(png.data()),
+                                static_cast<std::streamsize>(png.size()));
     }
   }
   if (json_file) json_file->Commit();
@@ -83,18 +85,21 @@ const bool kRegistered = RegisterCommand("eval", 80, [](CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "eval",
       "Evaluate a trajectory against ground truth: ATE (TUM evaluate_ate.py), RPE (evaluate_rpe.py "
-      "--fixed_delta, delta in seconds), coverage. Files in TUM format: 'timestamp tx ty tz qx qy qz qw'.");
+      "--fixed_delta, delta in seconds), coverage. Files in TUM format: 'timestamp tx ty tz qx qy "
+      "qz qw'.");
   cmd->add_option("--gt", opts->gt_path, "ground-truth trajectory (TUM format)")->required();
   cmd->add_option("--est", opts->est_path, "estimated trajectory (TUM format)")->required();
-  cmd->add_option("--align", opts->align,
-                  "alignment before ATE: se3 (rigid, RGB-D/stereo), sim3 (with scale, monocular), none")
+  cmd->add_option(
+         "--align", opts->align,
+         "alignment before ATE: se3 (rigid, RGB-D/stereo), sim3 (with scale, monocular), none")
       ->capture_default_str();
   cmd->add_option("--max-diff", opts->max_diff_s,
                   "max |t_gt - (t_est + offset)| for associating poses, seconds")
       ->capture_default_str();
   cmd->add_option("--offset", opts->offset_s, "time offset added to estimate stamps, seconds")
       ->capture_default_str();
-  cmd->add_option("--rpe-delta", opts->rpe_delta_s, "RPE pose-pair distance, seconds")->capture_default_str();
+  cmd->add_option("--rpe-delta", opts->rpe_delta_s, "RPE pose-pair distance, seconds")
+      ->capture_default_str();
   cmd->add_option("--json", opts->json_path, "write all results as JSON to this file");
   cmd->add_option("--plot", opts->plot_path,
                   "write a figure (top view, side view, error over time) to FILE.png or FILE.svg");

@@ -2,12 +2,11 @@
 // trying out `dynorb eval`: groundtruth.txt (smooth hand-held-like path) and estimate.txt (the
 // same path in another world frame, with drift, noise, optional scale, jittered stamps and a few
 // dropped frames). Deterministic for a seed. See dynorb/eval/trajectory_generator.h.
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "command_registry.h"
 #include "dynorb/core/error.h"
@@ -27,7 +26,8 @@ void RunTrajgen(const TrajgenCliOptions& cli) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(cli.out_dir, ec);
-  if (!fs::is_directory(cli.out_dir)) throw InputError("cannot create output directory " + cli.out_dir);
+  if (!fs::is_directory(cli.out_dir))
+    throw InputError("cannot create output directory " + cli.out_dir);
   const TrajectoryPair pair = GenerateTrajectoryPair(cli.pair);
   const std::string gt_path = (fs::path(cli.out_dir) / "groundtruth.txt").string();
   const std::string est_path = (fs::path(cli.out_dir) / "estimate.txt").string();
@@ -40,16 +40,20 @@ void RunTrajgen(const TrajgenCliOptions& cli) {
 
 const bool kRegistered = RegisterCommand("trajgen", 85, [](CLI::App& app) {
   auto opts = std::make_shared<TrajgenCliOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "trajgen", "Write a synthetic groundtruth.txt / estimate.txt pair (TUM format) for trying `dynorb eval`");
+  CLI::App* cmd = app.add_subcommand("trajgen",
+                                     "Write a synthetic groundtruth.txt / estimate.txt pair (TUM "
+                                     "format) for trying `dynorb eval`");
   TrajectoryPairOptions& p = opts->pair;
   cmd->add_option("--out", opts->out_dir, "output directory (created if missing)")->required();
   cmd->add_option("--seed", p.seed, "random seed")->capture_default_str();
-  cmd->add_option("--duration-s", p.duration_s, "trajectory length, seconds")->capture_default_str();
-  cmd->add_option("--rate-hz", p.rate_hz, "pose rate, Hz")->capture_default_str();
-  cmd->add_option("--noise-m", p.noise_m, "estimate position noise sigma per axis, m (rotation: rad)")
+  cmd->add_option("--duration-s", p.duration_s, "trajectory length, seconds")
       ->capture_default_str();
-  cmd->add_option("--drift-m-per-s", p.drift_m_per_s, "estimate linear drift, m/s")->capture_default_str();
+  cmd->add_option("--rate-hz", p.rate_hz, "pose rate, Hz")->capture_default_str();
+  cmd->add_option("--noise-m", p.noise_m,
+                  "estimate position noise sigma per axis, m (rotation: rad)")
+      ->capture_default_str();
+  cmd->add_option("--drift-m-per-s", p.drift_m_per_s, "estimate linear drift, m/s")
+      ->capture_default_str();
   cmd->add_option("--scale", p.scale, "estimate scale (e.g. 0.5 for a monocular-like estimate)")
       ->capture_default_str();
   cmd->add_option("--drop-fraction", p.drop_fraction, "fraction of estimate frames dropped")

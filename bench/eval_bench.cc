@@ -1,8 +1,8 @@
 // Benchmarks of the trajectory evaluator (dynorb/eval): association, and the full ATE + RPE +
 // coverage evaluation of `dynorb eval` on long trajectories (target: 100 000 poses well under 1 s).
-#include <map>
-
 #include <benchmark/benchmark.h>
+
+#include <map>
 
 #include "dynorb/eval/evaluate.h"
 #include "dynorb/eval/trajectory_generator.h"
@@ -40,8 +40,8 @@ BENCHMARK(BM_EvaluateAteRpe)->Arg(1000)->Arg(100000)->Unit(benchmark::kMilliseco
 void BM_Associate(benchmark::State& state) {
   const TrajectoryPair& pair = Pair(static_cast<int>(state.range(0)));
   const std::vector<double> gt = Stamps(pair.groundtruth), est = Stamps(pair.estimate);
-  AssociationOptions options;
-  for (auto _ : state) benchmark::DoNotOptimize(AssociateTimestamps(gt, est, options).size());
+  StampAssociationOptions options;
+  for (auto _ : state) benchmark::DoNotOptimize(AssociateStamps(gt, est, options).size());
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 BENCHMARK(BM_Associate)->Arg(100000)->Unit(benchmark::kMillisecond);

@@ -1,8 +1,7 @@
 #include "dynorb/eval/alignment.h"
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "dynorb/core/error.h"
 
@@ -17,16 +16,20 @@ AlignmentMode ParseAlignmentMode(const std::string& text) {
 
 std::string ToString(AlignmentMode mode) {
   switch (mode) {
-    case AlignmentMode::kSe3: return "se3";
-    case AlignmentMode::kSim3: return "sim3";
-    case AlignmentMode::kNone: return "none";
+    case AlignmentMode::kSe3:
+      return "se3";
+    case AlignmentMode::kSim3:
+      return "sim3";
+    case AlignmentMode::kNone:
+      return "none";
   }
   return "?";
 }
 
-Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions, const Eigen::Matrix3Xd& gt_positions,
-                            AlignmentMode mode) {
-  if (est_positions.cols() != gt_positions.cols()) throw InputError("alignment: point count mismatch");
+Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions,
+                            const Eigen::Matrix3Xd& gt_positions, AlignmentMode mode) {
+  if (est_positions.cols() != gt_positions.cols())
+    throw InputError("alignment: point count mismatch");
   Similarity3d gt_from_est;
   if (mode == AlignmentMode::kNone) return gt_from_est;
   if (est_positions.cols() < 3) {
@@ -35,7 +38,8 @@ Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions, const Eigen::
   }
   const Eigen::Vector3d mean = est_positions.rowwise().mean();
   if ((est_positions.colwise() - mean).squaredNorm() <= 1e-20) {
-    throw InputError("alignment: all associated estimate positions are identical; use --align none");
+    throw InputError(
+        "alignment: all associated estimate positions are identical; use --align none");
   }
   const bool with_scale = mode == AlignmentMode::kSim3;
   const Eigen::Matrix4d m = Eigen::umeyama(est_positions, gt_positions, with_scale);

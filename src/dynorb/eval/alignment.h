@@ -8,9 +8,8 @@
 // Pure functions, thread-safe.
 #pragma once
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 namespace dynorb {
 
@@ -25,11 +24,13 @@ struct Similarity3d {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
   double scale = 1.0;
-  Eigen::Vector3d operator*(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
+  Eigen::Vector3d operator*(const Eigen::Vector3d& p) const {
+    return scale * (rotation * p) + translation;
+  }
 };
 
 // Columns are corresponding points. Needs >= 3 points for se3/sim3 (throws InputError).
-Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions, const Eigen::Matrix3Xd& gt_positions,
-                            AlignmentMode mode);
+Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions,
+                            const Eigen::Matrix3Xd& gt_positions, AlignmentMode mode);
 
 }  // namespace dynorb

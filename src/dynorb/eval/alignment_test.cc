@@ -1,10 +1,10 @@
 #include "dynorb/eval/alignment.h"
 
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <random>
 
 #include "dynorb/core/error.h"
 
@@ -18,8 +18,8 @@ Similarity3d HornAlign(const Eigen::Matrix3Xd& est, const Eigen::Matrix3Xd& gt, 
   const Eigen::Vector3d me = est.rowwise().mean(), mg = gt.rowwise().mean();
   const Eigen::Matrix3Xd a = est.colwise() - me, b = gt.colwise() - mg;
   const Eigen::Matrix3d m = a * b.transpose();
-  const double sxx = m(0, 0), sxy = m(0, 1), sxz = m(0, 2), syx = m(1, 0), syy = m(1, 1), syz = m(1, 2),
-               szx = m(2, 0), szy = m(2, 1), szz = m(2, 2);
+  const double sxx = m(0, 0), sxy = m(0, 1), sxz = m(0, 2), syx = m(1, 0), syy = m(1, 1),
+               syz = m(1, 2), szx = m(2, 0), szy = m(2, 1), szz = m(2, 2);
   Eigen::Matrix4d n;
   n << sxx + syy + szz, syz - szy, szx - sxz, sxy - syx,  //
       syz - szy, sxx - syy - szz, sxy + syx, szx + sxz,   //
@@ -44,7 +44,8 @@ Eigen::Matrix3Xd RandomPoints(std::mt19937_64& rng, int n) {
 TEST(Alignment, RecoversKnownRigidTransform) {
   std::mt19937_64 rng(1);
   const Eigen::Matrix3Xd gt = RandomPoints(rng, 50);
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
   const Eigen::Vector3d t(3, -1, 2);
   // est = R^T (gt - t), so gt = R est + t.
   const Eigen::Matrix3Xd est = r.transpose() * (gt.colwise() - t);
@@ -73,12 +74,15 @@ TEST(Alignment, EigenUmeyamaEqualsHornOnNoisyData) {
   for (int trial = 0; trial < 20; ++trial) {
     const Eigen::Matrix3Xd gt = RandomPoints(rng, 30 + trial);
     const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(0.3 * trial, Eigen::Vector3d(1, trial, 2).normalized()).toRotationMatrix();
+        Eigen::AngleAxisd(0.3 * trial, Eigen::Vector3d(1, trial, 2).normalized())
+            .toRotationMatrix();
     Eigen::Matrix3Xd est = 0.8 * (r * gt);
-    for (int i = 0; i < est.cols(); ++i) est.col(i) += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    for (int i = 0; i < est.cols(); ++i)
+      est.col(i) += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     for (bool with_scale : {false, true}) {
       const Similarity3d horn = HornAlign(est, gt, with_scale);
-      const Similarity3d eig = AlignPositions(est, gt, with_scale ? AlignmentMode::kSim3 : AlignmentMode::kSe3);
+      const Similarity3d eig =
+          AlignPositions(est, gt, with_scale ? AlignmentMode::kSim3 : AlignmentMode::kSe3);
       EXPECT_LT((horn.rotation - eig.rotation).norm(), 1e-10) << trial;
       EXPECT_LT((horn.translation - eig.translation).norm(), 1e-10) << trial;
       EXPECT_NEAR(horn.scale, eig.scale, 1e-10) << trial;

@@ -40,16 +40,17 @@ struct Candidate {
 
 }  // namespace
 
-void AssociationOptions::Validate() const {
+void StampAssociationOptions::Validate() const {
   if (!(max_diff_s > 0.0) || !std::isfinite(max_diff_s)) {
-    throw InputError("--max-diff must be a positive number of seconds, got " + std::to_string(max_diff_s));
+    throw InputError("--max-diff must be a positive number of seconds, got " +
+                     std::to_string(max_diff_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
 }
 
-std::vector<IndexPair> AssociateTimestamps(const std::vector<double>& gt_stamps_s,
-                                           const std::vector<double>& est_stamps_s,
-                                           const AssociationOptions& options) {
+std::vector<IndexPair> AssociateStamps(const std::vector<double>& gt_stamps_s,
+                                       const std::vector<double>& est_stamps_s,
+                                       const StampAssociationOptions& options) {
   options.Validate();
   CheckIncreasing(gt_stamps_s, "ground-truth");
   CheckIncreasing(est_stamps_s, "estimate");
@@ -59,8 +60,9 @@ std::vector<IndexPair> AssociateTimestamps(const std::vector<double>& gt_stamps_
   nodes.reserve(gt_stamps_s.size() + est_stamps_s.size());
   size_t i = 0, j = 0;
   while (i < gt_stamps_s.size() || j < est_stamps_s.size()) {
-    const bool take_gt = j == est_stamps_s.size() ||
-                         (i < gt_stamps_s.size() && gt_stamps_s[i] <= est_stamps_s[j] + options.offset_s);
+    const bool take_gt =
+        j == est_stamps_s.size() ||
+        (i < gt_stamps_s.size() && gt_stamps_s[i] <= est_stamps_s[j] + options.offset_s);
     Node node;
     node.is_gt = take_gt;
     node.index = static_cast<int>(take_gt ? i++ : j++);
@@ -79,7 +81,8 @@ std::vector<IndexPair> AssociateTimestamps(const std::vector<double>& gt_stamps_
     const double t_gt = gt_stamps_s[g.index];
     const double t_est = est_stamps_s[e.index];
     const double diff = std::abs(t_gt - (t_est + options.offset_s));  // exactly associate.py's
-    if (diff < options.max_diff_s) heap.push({diff, t_gt, t_est, nodes[a].is_gt ? a : b, nodes[a].is_gt ? b : a});
+    if (diff < options.max_diff_s)
+      heap.push({diff, t_gt, t_est, nodes[a].is_gt ? a : b, nodes[a].is_gt ? b : a});
   };
   for (int n = 0; n + 1 < static_cast<int>(nodes.size()); ++n) push_if_candidate(n, n + 1);
 
@@ -101,7 +104,8 @@ std::vector<IndexPair> AssociateTimestamps(const std::vector<double>& gt_stamps_
     if (after >= 0) nodes[after].prev = before;
     push_if_candidate(before, after);
   }
-  std::sort(pairs.begin(), pairs.end(), [](const IndexPair& a, const IndexPair& b) { return a.gt < b.gt; });
+  std::sort(pairs.begin(), pairs.end(),
+            [](const IndexPair& a, const IndexPair& b) { return a.gt < b.gt; });
   return pairs;
 }
 
@@ -113,8 +117,8 @@ std::vector<double> Stamps(const Trajectory& trajectory) {
 }
 
 std::vector<IndexPair> AssociateTrajectories(const Trajectory& gt, const Trajectory& est,
-                                             const AssociationOptions& options) {
-  return AssociateTimestamps(Stamps(gt), Stamps(est), options);
+                                             const StampAssociationOptions& options) {
+  return AssociateStamps(Stamps(gt), Stamps(est), options);
 }
 
 }  // namespace dynorb

@@ -17,7 +17,7 @@
 
 namespace dynorb {
 
-struct AssociationOptions {
+struct StampAssociationOptions {
   double max_diff_s = 0.02;  // a match needs |t_gt - (t_est + offset_s)| < max_diff_s (strict)
   double offset_s = 0.0;     // added to every estimate stamp before matching (estimate delay)
   void Validate() const;     // throws InputError
@@ -30,11 +30,11 @@ struct IndexPair {
 };
 
 // Stamps must be strictly increasing (throws InputError otherwise).
-std::vector<IndexPair> AssociateTimestamps(const std::vector<double>& gt_stamps_s,
-                                           const std::vector<double>& est_stamps_s,
-                                           const AssociationOptions& options);
+std::vector<IndexPair> AssociateStamps(const std::vector<double>& gt_stamps_s,
+                                       const std::vector<double>& est_stamps_s,
+                                       const StampAssociationOptions& options);
 std::vector<IndexPair> AssociateTrajectories(const Trajectory& gt, const Trajectory& est,
-                                             const AssociationOptions& options);
+                                             const StampAssociationOptions& options);
 
 std::vector<double> Stamps(const Trajectory& trajectory);
 

@@ -17,15 +17,15 @@ namespace dynorb {
 
 struct AteResult {
   AlignmentMode mode = AlignmentMode::kSe3;
-  std::vector<IndexPair> pairs;       // associated pairs, sorted by ground-truth stamp
-  Similarity3d gt_from_est;           // the alignment applied to the estimate
-  std::vector<double> errors_m;       // e_i, one per pair (same order as pairs)
-  SummaryStats stats;                 // summary of errors_m (count = number of pairs)
+  std::vector<IndexPair> pairs;  // associated pairs, sorted by ground-truth stamp
+  Similarity3d gt_from_est;      // the alignment applied to the estimate
+  std::vector<double> errors_m;  // e_i, one per pair (same order as pairs)
+  SummaryStats stats;            // summary of errors_m (count = number of pairs)
 };
 
 // `pairs` from AssociateTrajectories(gt, est, ...). Throws InputError if there are no pairs, or
 // fewer than 3 when aligning.
-AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, const std::vector<IndexPair>& pairs,
-                     AlignmentMode mode);
+AteResult ComputeAte(const Trajectory& gt, const Trajectory& est,
+                     const std::vector<IndexPair>& pairs, AlignmentMode mode);
 
 }  // namespace dynorb

@@ -1,8 +1,8 @@
 #include "dynorb/eval/ate.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "dynorb/core/error.h"
 #include "dynorb/eval/evaluate.h"
@@ -37,21 +37,25 @@ TEST(Ate, PureOffsetIsZeroAfterSe3AndKnownWithoutAlignment) {
 
 TEST(Ate, KnownRotationIsRemovedBySe3) {
   const Trajectory gt = Wiggle(200, 30.0);
-  const Rigid3d est_from_gt(Eigen::Quaterniond(Eigen::AngleAxisd(1.2, Eigen::Vector3d(0.2, 1, 0.3).normalized())),
-                            Eigen::Vector3d(5, -2, 1));
-  const EvalResult r = EvaluateTrajectories(gt, Transformed(gt, est_from_gt), Opts(AlignmentMode::kSe3));
+  const Rigid3d est_from_gt(
+      Eigen::Quaterniond(Eigen::AngleAxisd(1.2, Eigen::Vector3d(0.2, 1, 0.3).normalized())),
+      Eigen::Vector3d(5, -2, 1));
+  const EvalResult r =
+      EvaluateTrajectories(gt, Transformed(gt, est_from_gt), Opts(AlignmentMode::kSe3));
   EXPECT_LT(r.ate.stats.max, 1e-10);
   const Eigen::Matrix3d expected = est_from_gt.Inverse().rotation.toRotationMatrix();
   EXPECT_LT((r.ate.gt_from_est.rotation - expected).norm(), 1e-10);
   // Without alignment the error of each pose is |p - (R p + t)|.
-  const EvalResult none = EvaluateTrajectories(gt, Transformed(gt, est_from_gt), Opts(AlignmentMode::kNone));
+  const EvalResult none =
+      EvaluateTrajectories(gt, Transformed(gt, est_from_gt), Opts(AlignmentMode::kNone));
   const Eigen::Vector3d p0 = gt[0].world_from_cam.translation;
   EXPECT_NEAR(none.ate.errors_m[0], (p0 - est_from_gt * p0).norm(), 1e-12);
 }
 
 TEST(Ate, SymmetricNoiseGivesExactRmseAfterSe3) {
   // Every position is visited twice and perturbed by +e and -e: the noise has zero mean and zero
-  // correlation with the positions, so the optimal alignment is the identity and every error is |e|.
+  // correlation with the positions, so the optimal alignment is the identity and every error is
+  // |e|.
   const Trajectory base = Wiggle(100, 10.0);
   Trajectory gt, est;
   const double d[4] = {0.01, 0.02, 0.03, 0.04};
@@ -80,7 +84,8 @@ TEST(Ate, SymmetricNoiseGivesExactRmseAfterSe3) {
 TEST(Ate, Sim3RecoversScale) {
   const Trajectory gt = Wiggle(300, 30.0);
   Trajectory est = gt;
-  const Rigid3d frame(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY())), Eigen::Vector3d(1, 2, 3));
+  const Rigid3d frame(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY())),
+                      Eigen::Vector3d(1, 2, 3));
   for (StampedPose& p : est) {
     p.world_from_cam.translation *= 0.4;  // monocular: unknown scale
     p.world_from_cam = frame * p.world_from_cam;
@@ -116,7 +121,8 @@ TEST(Ate, ClearErrorsForNoOverlapAndTooFewPairs) {
     EvaluateTrajectories(gt, late, Opts(AlignmentMode::kSe3));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no estimate pose has a ground-truth pose"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("no estimate pose has a ground-truth pose"),
+              std::string::npos);
   }
   const Trajectory two(gt.begin(), gt.begin() + 2);
   EXPECT_THROW(EvaluateTrajectories(gt, two, Opts(AlignmentMode::kSe3)), InputError);

@@ -10,18 +10,20 @@ namespace dynorb {
 
 void CoverageOptions::Validate() const {
   if (!(window_s > 0.0) || !std::isfinite(window_s)) {
-    throw InputError("coverage window must be a positive number of seconds, got " + std::to_string(window_s));
+    throw InputError("coverage window must be a positive number of seconds, got " +
+                     std::to_string(window_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
 }
 
-Coverage ComputeCoverage(const Trajectory& gt, const Trajectory& est, const std::vector<IndexPair>& pairs,
-                         const CoverageOptions& options) {
+Coverage ComputeCoverage(const Trajectory& gt, const Trajectory& est,
+                         const std::vector<IndexPair>& pairs, const CoverageOptions& options) {
   options.Validate();
   Coverage c;
   if (gt.empty()) return c;
   const double begin = gt.front().timestamp_s;
   const double end = gt.back().timestamp_s;
+  c.gt_begin_s = begin;
   c.gt_span_s = end - begin;
   std::vector<double> centers;
   centers.reserve(pairs.size());

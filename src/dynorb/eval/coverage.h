@@ -26,14 +26,15 @@ struct CoverageOptions {
 };
 
 struct Coverage {
-  double fraction = 0.0;            // |covered| / |span| in [0, 1]
-  double gt_span_s = 0.0;           // t_gt_last - t_gt_first
-  double covered_s = 0.0;           // |covered|
-  double longest_gap_s = 0.0;       // longest uncovered interval inside the span
-  double longest_gap_start_s = 0.0; // its start (ground-truth clock)
+  double fraction = 0.0;             // |covered| / |span| in [0, 1]
+  double gt_begin_s = 0.0;           // t_gt_first
+  double gt_span_s = 0.0;            // t_gt_last - t_gt_first
+  double covered_s = 0.0;            // |covered|
+  double longest_gap_s = 0.0;        // longest uncovered interval inside the span
+  double longest_gap_start_s = 0.0;  // its start (ground-truth clock)
 };
 
-Coverage ComputeCoverage(const Trajectory& gt, const Trajectory& est, const std::vector<IndexPair>& pairs,
-                         const CoverageOptions& options);
+Coverage ComputeCoverage(const Trajectory& gt, const Trajectory& est,
+                         const std::vector<IndexPair>& pairs, const CoverageOptions& options);
 
 }  // namespace dynorb

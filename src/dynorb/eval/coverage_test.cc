@@ -55,7 +55,7 @@ TEST(Coverage, LostTrackingIsCountedAndWarned) {
 }
 
 TEST(Coverage, LateStartAndEarlyEndCount) {
-  const Trajectory gt = Wiggle(301, 10.0);  // 30 s
+  const Trajectory gt = Wiggle(301, 10.0);                   // 30 s
   const Trajectory est(gt.begin() + 100, gt.begin() + 201);  // 10 s .. 20 s
   const EvalResult r = Evaluate(gt, est);
   EXPECT_NEAR(r.coverage.covered_s, 10.0 + 0.1, 1e-9);

@@ -27,7 +27,8 @@ void EvalOptions::Validate() const {
   coverage.Validate();
 }
 
-EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est, const EvalOptions& options) {
+EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
+                                const EvalOptions& options) {
   options.Validate();
   if (gt.empty()) throw InputError("ground-truth trajectory is empty");
   if (est.empty()) throw InputError("estimated trajectory is empty");
@@ -38,15 +39,15 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est, con
 
   const std::vector<IndexPair> pairs = AssociateTrajectories(gt, est, options.association);
   if (pairs.empty()) {
-    throw InputError(
-        Format("no estimate pose has a ground-truth pose within --max-diff %.4g s: ground truth spans "
-               "[%.6f, %.6f], estimate spans [%.6f, %.6f] (offset %g s). Wrong files, or a time offset?",
-               options.association.max_diff_s, gt.front().timestamp_s, gt.back().timestamp_s,
-               est.front().timestamp_s, est.back().timestamp_s, options.association.offset_s));
+    throw InputError(Format(
+        "no estimate pose has a ground-truth pose within --max-diff %.4g s: ground truth spans "
+        "[%.6f, %.6f], estimate spans [%.6f, %.6f] (offset %g s). Wrong files, or a time offset?",
+        options.association.max_diff_s, gt.front().timestamp_s, gt.back().timestamp_s,
+        est.front().timestamp_s, est.back().timestamp_s, options.association.offset_s));
   }
   if (options.alignment != AlignmentMode::kNone && pairs.size() < 3) {
-    throw InputError("only " + std::to_string(pairs.size()) +
-                     " associated pose pair(s); --align " + ToString(options.alignment) +
+    throw InputError("only " + std::to_string(pairs.size()) + " associated pose pair(s); --align " +
+                     ToString(options.alignment) +
                      " needs at least 3 (check --max-diff, or use --align none)");
   }
   result.ate = ComputeAte(gt, est, pairs, options.alignment);
@@ -63,20 +64,25 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est, con
   result.rpe = ComputeRpe(gt, est, rpe_options);
 
   if (result.coverage.fraction < options.coverage_warning_below) {
-    result.warnings.push_back(
-        Format("coverage %.1f%% < %.0f%%: the estimate covers only part of the ground-truth time span "
-               "(longest gap %.2f s from t=%.3f); ATE/RPE describe the covered part only",
-               100.0 * result.coverage.fraction, 100.0 * options.coverage_warning_below,
-               result.coverage.longest_gap_s, result.coverage.longest_gap_start_s));
+    result.warnings.push_back(Format(
+        "coverage %.1f%% < %.0f%%: the estimate covers only part of the ground-truth time span "
+        "(longest gap %.2f s, %.2f s after the first ground-truth pose); ATE/RPE describe the "
+        "covered "
+        "part only",
+        100.0 * result.coverage.fraction, 100.0 * options.coverage_warning_below,
+        result.coverage.longest_gap_s,
+        result.coverage.longest_gap_start_s - result.coverage.gt_begin_s));
   }
   const int unmatched = result.est_poses - static_cast<int>(pairs.size());
   if (unmatched > 0 && unmatched * 20 > result.est_poses) {
-    result.warnings.push_back(std::to_string(unmatched) + " of " + std::to_string(result.est_poses) +
-                              " estimate poses have no ground truth within --max-diff and are ignored");
+    result.warnings.push_back(
+        std::to_string(unmatched) + " of " + std::to_string(result.est_poses) +
+        " estimate poses have no ground truth within --max-diff and are ignored");
   }
   if (result.rpe.pairs.empty()) {
-    result.warnings.push_back(Format("RPE not available: no estimate pose pair %.3g s apart with ground truth",
-                                     options.rpe_delta_s));
+    result.warnings.push_back(
+        Format("RPE not available: no estimate pose pair %.3g s apart with ground truth",
+               options.rpe_delta_s));
   }
   return result;
 }

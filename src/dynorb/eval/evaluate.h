@@ -15,12 +15,12 @@
 namespace dynorb {
 
 struct EvalOptions {
-  AssociationOptions association;               // --max-diff, --offset
+  StampAssociationOptions association;            // --max-diff, --offset
   AlignmentMode alignment = AlignmentMode::kSe3;  // --align
-  double rpe_delta_s = 1.0;                     // --rpe-delta
-  double coverage_window_s = 0.05;              // see coverage.h
-  double coverage_warning_below = 0.95;         // warn when coverage fraction is lower
-  void Validate() const;                        // throws InputError
+  double rpe_delta_s = 1.0;                       // --rpe-delta
+  double coverage_window_s = 0.05;                // see coverage.h
+  double coverage_warning_below = 0.95;           // warn when coverage fraction is lower
+  void Validate() const;                          // throws InputError
 };
 
 struct EvalResult {
@@ -35,6 +35,7 @@ struct EvalResult {
 
 // Throws InputError when the trajectories do not overlap in time (no associated pair) or when
 // alignment has fewer than 3 pairs.
-EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est, const EvalOptions& options);
+EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
+                                const EvalOptions& options);
 
 }  // namespace dynorb

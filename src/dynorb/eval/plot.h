@@ -8,11 +8,10 @@
 // Pure functions, thread-safe.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "dynorb/core/trajectory.h"
 #include "dynorb/eval/evaluate.h"
@@ -48,12 +47,18 @@ struct PlotRect {
 };
 
 // Drawn in this order: rects, polylines, texts.
-struct PlotCanvas {
-  int width_px = 1600;
-  int height_px = 1100;
+struct PlotLayer {
   std::vector<PlotRect> rects;
   std::vector<PlotPolyline> lines;
   std::vector<PlotText> texts;
+};
+
+// `base` (axes, data, labels) is drawn first, then `overlay` (legends) on top.
+struct PlotCanvas {
+  int width_px = 1600;
+  int height_px = 1100;
+  PlotLayer base;
+  PlotLayer overlay;
 };
 
 PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const EvalResult& result);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "dynorb/eval/plot.h"
 #include "dynorb/eval/report.h"
@@ -51,7 +52,8 @@ struct Panel {
   double x = 0, y = 0, width = 0, height = 0;  // pixel box
   Range u, v;                                  // data ranges (horizontal, vertical)
   Eigen::Vector2d ToPx(double du, double dv) const {
-    return {x + (du - u.lo) / (u.hi - u.lo) * width, y + height - (dv - v.lo) / (v.hi - v.lo) * height};
+    return {x + (du - u.lo) / (u.hi - u.lo) * width,
+            y + height - (dv - v.lo) / (v.hi - v.lo) * height};
   }
 };
 
@@ -72,19 +74,21 @@ std::string TickLabel(double value, double step) {
 }
 
 // Adds a polyline, dropping points closer than 0.5 px to the previous kept point.
-void AddLine(PlotCanvas& c, const std::vector<Eigen::Vector2d>& pts, PlotColor color, double width) {
+void AddLine(PlotLayer& c, const std::vector<Eigen::Vector2d>& pts, PlotColor color, double width) {
   PlotPolyline line;
   line.color = color;
   line.width_px = width;
   for (const Eigen::Vector2d& p : pts) {
-    if (line.points_px.empty() || (p - line.points_px.back()).norm() >= 0.5) line.points_px.push_back(p);
+    if (line.points_px.empty() || (p - line.points_px.back()).norm() >= 0.5)
+      line.points_px.push_back(p);
   }
-  if (line.points_px.size() == 1) line.points_px.push_back(line.points_px.front() + Eigen::Vector2d(0.5, 0));
+  if (line.points_px.size() == 1)
+    line.points_px.push_back(line.points_px.front() + Eigen::Vector2d(0.5, 0));
   if (!line.points_px.empty()) c.lines.push_back(std::move(line));
 }
 
-void AddText(PlotCanvas& c, double x, double y, const std::string& text, double h, PlotTextAlign align,
-             PlotColor color = kText) {
+void AddText(PlotLayer& c, double x, double y, const std::string& text, double h,
+             PlotTextAlign align, PlotColor color = kText) {
   PlotText t;
   t.anchor_px = {x, y};
   t.text = text;
@@ -94,7 +98,7 @@ void AddText(PlotCanvas& c, double x, double y, const std::string& text, double 
   c.texts.push_back(std::move(t));
 }
 
-void DrawAxes(PlotCanvas& c, const Panel& p, const std::string& title, const std::string& u_label,
+void DrawAxes(PlotLayer& c, const Panel& p, const std::string& title, const std::string& u_label,
               const std::string& v_label) {
   PlotRect frame{p.x, p.y, p.width, p.height, kBlack, 1.0, true, kWhite};
   c.rects.push_back(frame);
@@ -127,10 +131,27 @@ struct LegendEntry {
   double width;
 };
 
-void DrawLegend(PlotCanvas& c, double x, double y, const std::vector<LegendEntry>& entries) {
+// Puts the legend into the panel corner that hides the fewest data points.
+void DrawLegend(PlotLayer& c, const Panel& p, const std::vector<Eigen::Vector2d>& data_px,
+                const std::vector<LegendEntry>& entries) {
   double max_chars = 0;
   for (const LegendEntry& e : entries) max_chars = std::max<double>(max_chars, e.label.size());
   const double w = 56 + 8.2 * max_chars, h = 10 + 22.0 * entries.size();
+  double x = 0, y = 0;
+  size_t best_hidden = std::numeric_limits<size_t>::max();
+  for (int corner = 0; corner < 4; ++corner) {
+    const double cx = corner % 2 == 0 ? p.x + 10 : p.x + p.width - 10 - w;
+    const double cy = corner < 2 ? p.y + 10 : p.y + p.height - 10 - h;
+    size_t hidden = 0;
+    for (const Eigen::Vector2d& q : data_px) {
+      hidden += q.x() >= cx - 5 && q.x() <= cx + w + 5 && q.y() >= cy - 5 && q.y() <= cy + h + 5;
+    }
+    if (hidden < best_hidden) {
+      best_hidden = hidden;
+      x = cx;
+      y = cy;
+    }
+  }
   c.rects.push_back({x, y, w, h, kRmse, 1.0, true, kWhite});
   for (size_t k = 0; k < entries.size(); ++k) {
     const double row = y + 16 + 22.0 * k;
@@ -156,8 +177,10 @@ std::vector<double> NiceTicks(double lo, double hi, int target) {
 }
 
 PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const EvalResult& result) {
-  PlotCanvas c;
-  c.rects.push_back({0, 0, double(c.width_px), double(c.height_px), kWhite, 0.0, true, kWhite});
+  PlotCanvas canvas;
+  PlotLayer& c = canvas.base;
+  c.rects.push_back(
+      {0, 0, double(canvas.width_px), double(canvas.height_px), kWhite, 0.0, true, kWhite});
   const Similarity3d& gt_from_est = result.ate.gt_from_est;
 
   // Series in data coordinates. The estimate line breaks where its stamps jump (dropped frames).
@@ -173,12 +196,12 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
   const std::string title = Format(
       "ATE RMSE %.4f m (%s, %d pairs)   RPE %s   coverage %.1f%%", result.ate.stats.rmse,
       ToString(result.ate.mode).c_str(), result.ate.stats.count,
-      result.rpe.trans_m.count > 0
-          ? Format("%.4f m / %.2f deg per %g s", result.rpe.trans_m.rmse, result.rpe.rot_deg.rmse,
-                   result.options.rpe_delta_s).c_str()
-          : "n/a",
+      result.rpe.trans_m.count > 0 ? Format("%.4f m / %.2f deg per %g s", result.rpe.trans_m.rmse,
+                                            result.rpe.rot_deg.rmse, result.options.rpe_delta_s)
+                                         .c_str()
+                                   : "n/a",
       100.0 * result.coverage.fraction);
-  AddText(c, 0.5 * c.width_px, 28, title, 17, PlotTextAlign::kCenter, kBlack);
+  AddText(c, 0.5 * canvas.width_px, 28, title, 17, PlotTextAlign::kCenter, kBlack);
 
   const int views[2][2] = {{0, 1}, {0, 2}};  // (x, y) top view, (x, z) side view
   const char* names[3] = {"x [m]", "y [m]", "z [m]"};
@@ -199,9 +222,10 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
     p.v.Pad(0.05, 0.1);
     EqualAspect(p);
     DrawAxes(c, p, v == 0 ? "top view (x-y)" : "side view (x-z)", names[a], names[b]);
-    std::vector<Eigen::Vector2d> pts;
+    std::vector<Eigen::Vector2d> pts, all_px;
     for (const Eigen::Vector3d& q : gt_xyz) pts.push_back(p.ToPx(q[a], q[b]));
     AddLine(c, pts, kGroundTruth, 1.5);
+    all_px = pts;
     pts.clear();
     for (size_t k = 0; k < est_xyz.size(); ++k) {
       if (est_break[k] && !pts.empty()) {
@@ -209,9 +233,10 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
         pts.clear();
       }
       pts.push_back(p.ToPx(est_xyz[k][a], est_xyz[k][b]));
+      all_px.push_back(pts.back());
     }
     AddLine(c, pts, kEstimate, 1.5);
-    DrawLegend(c, p.x + 10, p.y + 10,
+    DrawLegend(canvas.overlay, p, all_px,
                {{"ground truth", kGroundTruth, 1.5},
                 {"estimate (" + ToString(result.ate.mode) + "-aligned)", kEstimate, 1.5}});
   }
@@ -228,8 +253,9 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
   e.v.Include(0.0);
   for (double err : result.ate.errors_m) e.v.Include(err);
   e.v.hi = std::max(e.v.hi, 1e-3) * 1.08;
-  DrawAxes(c, e, "ATE translational error over time", "time since first ground-truth pose [s]", "error [m]");
-  std::vector<Eigen::Vector2d> pts;
+  DrawAxes(c, e, "ATE translational error over time", "time since first ground-truth pose [s]",
+           "error [m]");
+  std::vector<Eigen::Vector2d> pts, all_px;
   double previous_s = -1e300;
   for (size_t k = 0; k < result.ate.pairs.size(); ++k) {
     const double s = gt[result.ate.pairs[k].gt].timestamp_s - t0;
@@ -239,13 +265,15 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
     }
     previous_s = s;
     pts.push_back(e.ToPx(s, result.ate.errors_m[k]));
+    all_px.push_back(pts.back());
   }
   AddLine(c, pts, kError, 1.5);
   const double rmse_y = e.ToPx(0.0, result.ate.stats.rmse).y();
   c.lines.push_back({{{e.x, rmse_y}, {e.x + e.width, rmse_y}}, kRmse, 1.0});
-  DrawLegend(c, e.x + e.width - 250, e.y + 10,
-             {{"ATE error", kError, 1.5}, {Format("RMSE %.4f m", result.ate.stats.rmse), kRmse, 1.0}});
-  return c;
+  DrawLegend(
+      canvas.overlay, e, all_px,
+      {{"ATE error", kError, 1.5}, {Format("RMSE %.4f m", result.ate.stats.rmse), kRmse, 1.0}});
+  return canvas;
 }
 
 }  // namespace dynorb

@@ -2,11 +2,11 @@
 // tests/reference/tum_reference.py computed tests/reference/reference_values.json once from the
 // committed trajectory files in tests/reference/data/; here the C++ evaluator must reproduce every
 // value to 1e-6 (metres, degrees, fraction). How to regenerate: docs/evaluation.md.
-#include <fstream>
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "dynorb/eval/evaluate.h"
 #include "dynorb/io/trajectory_io.h"
@@ -21,7 +21,8 @@ std::string ReferenceDir() {
   return std::string(env != nullptr ? env : DYNORB_SOURCE_DIR) + "/tests/reference/";
 }
 
-void ExpectStats(const nlohmann::json& expected, const SummaryStats& actual, const std::string& what) {
+void ExpectStats(const nlohmann::json& expected, const SummaryStats& actual,
+                 const std::string& what) {
   ASSERT_FALSE(expected.is_null()) << what;
   EXPECT_EQ(expected["count"].get<int>(), actual.count) << what;
   EXPECT_NEAR(expected["rmse"].get<double>(), actual.rmse, kTolerance) << what;
@@ -57,7 +58,8 @@ TEST(Reference, MatchesIndependentNumpyImplementation) {
     ExpectStats(e["rpe"]["trans_m"], r.rpe.trans_m, "rpe trans");
     ExpectStats(e["rpe"]["rot_deg"], r.rpe.rot_deg, "rpe rot");
     ExpectStats(e["rpe"]["trans_paper_form_m"], r.rpe.trans_paper_form_m, "rpe trans (paper form)");
-    EXPECT_NEAR(e["rpe"]["gt_max_time_difference_s"].get<double>(), r.rpe.gt_max_time_difference_s, 1e-9);
+    EXPECT_NEAR(e["rpe"]["gt_max_time_difference_s"].get<double>(), r.rpe.gt_max_time_difference_s,
+                1e-9);
     EXPECT_NEAR(e["coverage"]["fraction"].get<double>(), r.coverage.fraction, kTolerance);
     EXPECT_NEAR(e["coverage"]["covered_s"].get<double>(), r.coverage.covered_s, kTolerance);
   }

@@ -1,8 +1,9 @@
 #include "dynorb/eval/report.h"
 
+#include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <gtest/gtest.h>
 
 #include "dynorb/eval/plot.h"
 #include "dynorb/eval/trajectory_generator.h"
@@ -28,9 +29,10 @@ Fixture Make(double drop_fraction = 0.02) {
 TEST(Report, TableHasAllRowsAndDefinitions) {
   const Fixture f = Make();
   const std::string table = FormatReportTable(f.result, {"gt.txt", "est.txt"});
-  for (const char* needle : {"ground truth  gt.txt (601 poses)", "ATE [m]", "RPE trans [m/s]", "RPE rot [deg/s]",
-                             "coverage", "alignment     se3", "evaluate_rpe.py --fixed_delta --delta 1 --delta_unit s",
-                             "rmse", "median"}) {
+  for (const char* needle :
+       {"ground truth  gt.txt (601 poses)", "ATE [m]", "RPE trans [m/s]", "RPE rot [deg/s]",
+        "coverage", "alignment     se3", "evaluate_rpe.py --fixed_delta --delta 1 --delta_unit s",
+        "rmse", "median"}) {
     EXPECT_NE(table.find(needle), std::string::npos) << needle << "\n" << table;
   }
   EXPECT_EQ(table.find("warning"), std::string::npos) << table;
@@ -71,11 +73,13 @@ TEST(Plot, NiceTicks) {
 TEST(Plot, PngAndSvgDrawTheSameLayout) {
   const Fixture f = Make();
   const PlotCanvas canvas = LayoutEvalFigure(f.pair.groundtruth, f.pair.estimate, f.result);
-  EXPECT_GE(canvas.lines.size(), 5u);  // 2 x (gt + estimate pieces) + error + legend samples
-  EXPECT_GE(canvas.texts.size(), 20u);
-  for (const PlotPolyline& line : canvas.lines) {
+  EXPECT_GE(canvas.base.lines.size(), 5u);  // 2 x (gt + estimate pieces) + error + rmse
+  EXPECT_GE(canvas.base.texts.size(), 20u);
+  EXPECT_EQ(canvas.overlay.rects.size(), 3u);  // one legend per panel
+  for (const PlotPolyline& line : canvas.base.lines) {
     for (const Eigen::Vector2d& p : line.points_px) {
-      EXPECT_TRUE(p.x() >= 0 && p.x() <= canvas.width_px && p.y() >= 0 && p.y() <= canvas.height_px);
+      EXPECT_TRUE(p.x() >= 0 && p.x() <= canvas.width_px && p.y() >= 0 &&
+                  p.y() <= canvas.height_px);
     }
   }
   const std::vector<unsigned char> png = RenderPlotPng(canvas);
@@ -86,8 +90,10 @@ TEST(Plot, PngAndSvgDrawTheSameLayout) {
   const std::string svg = RenderPlotSvg(canvas);
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
   size_t polylines = 0;
-  for (size_t at = svg.find("<polyline"); at != std::string::npos; at = svg.find("<polyline", at + 1)) ++polylines;
-  EXPECT_EQ(polylines, canvas.lines.size());
+  for (size_t at = svg.find("<polyline"); at != std::string::npos;
+       at = svg.find("<polyline", at + 1))
+    ++polylines;
+  EXPECT_EQ(polylines, canvas.base.lines.size() + canvas.overlay.lines.size());
   EXPECT_NE(svg.find("top view (x-y)"), std::string::npos);
 }
 

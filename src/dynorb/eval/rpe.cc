@@ -26,7 +26,8 @@ double Median(std::vector<double> values) {
 
 void RpeOptions::Validate() const {
   if (!(delta_s > 0.0) || !std::isfinite(delta_s)) {
-    throw InputError("--rpe-delta must be a positive number of seconds, got " + std::to_string(delta_s));
+    throw InputError("--rpe-delta must be a positive number of seconds, got " +
+                     std::to_string(delta_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError("RPE scale must be positive");
@@ -47,7 +48,8 @@ RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptio
   const std::vector<double> gt_stamps = Stamps(gt);
   const std::vector<double> est_stamps = Stamps(est);
   std::vector<double> gt_intervals(gt_stamps.size() - 1);
-  for (size_t k = 0; k + 1 < gt_stamps.size(); ++k) gt_intervals[k] = gt_stamps[k + 1] - gt_stamps[k];
+  for (size_t k = 0; k + 1 < gt_stamps.size(); ++k)
+    gt_intervals[k] = gt_stamps[k + 1] - gt_stamps[k];
   result.gt_max_time_difference_s = 2.0 * Median(std::move(gt_intervals));
 
   const size_t last = est_stamps.size() - 1;

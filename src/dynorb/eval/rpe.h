@@ -38,10 +38,10 @@ struct RpePair {
 };
 
 struct RpeResult {
-  std::vector<RpePair> pairs;          // in order of est_i
-  SummaryStats trans_m;                // over pairs[].trans_m
-  SummaryStats rot_deg;                // over pairs[].rot_rad, in degrees
-  SummaryStats trans_paper_form_m;     // over pairs[].trans_paper_form_m
+  std::vector<RpePair> pairs;             // in order of est_i
+  SummaryStats trans_m;                   // over pairs[].trans_m
+  SummaryStats rot_deg;                   // over pairs[].rot_rad, in degrees
+  SummaryStats trans_paper_form_m;        // over pairs[].trans_paper_form_m
   double gt_max_time_difference_s = 0.0;  // 2 x median ground-truth stamp interval
 };
 

@@ -1,8 +1,8 @@
 #include "dynorb/eval/rpe.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "dynorb/eval/test_util.h"
 
@@ -95,7 +95,8 @@ TEST(Rpe, ScriptAndPaperFormsDifferOnlyInTranslation) {
   Trajectory est = gt;
   for (size_t k = 0; k < est.size(); ++k) {
     est[k].world_from_cam.rotation =
-        est[k].world_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitY()));
+        est[k].world_from_cam.rotation *
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitY()));
   }
   const RpeResult r = ComputeRpe(gt, est, RpeOptions());
   ASSERT_GT(r.pairs.size(), 0u);

@@ -1,9 +1,8 @@
 // Helpers shared by the eval tests (not part of the library).
 #pragma once
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "dynorb/core/trajectory.h"
 
@@ -15,10 +14,11 @@ inline Trajectory Wiggle(int n, double rate_hz, double t0 = 100.0) {
   for (int k = 0; k < n; ++k) {
     const double t = k / rate_hz;
     traj[k].timestamp_s = t0 + t;
-    const Eigen::Quaterniond q(Eigen::AngleAxisd(0.5 * std::sin(0.7 * t), Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(0.2 * std::cos(0.4 * t), Eigen::Vector3d::UnitX()));
-    traj[k].world_from_cam =
-        Rigid3d(q, Eigen::Vector3d(std::sin(0.3 * t), 0.5 * std::cos(0.5 * t), 0.2 * std::sin(0.9 * t)));
+    const Eigen::Quaterniond q(
+        Eigen::AngleAxisd(0.5 * std::sin(0.7 * t), Eigen::Vector3d::UnitZ()) *
+        Eigen::AngleAxisd(0.2 * std::cos(0.4 * t), Eigen::Vector3d::UnitX()));
+    traj[k].world_from_cam = Rigid3d(
+        q, Eigen::Vector3d(std::sin(0.3 * t), 0.5 * std::cos(0.5 * t), 0.2 * std::sin(0.9 * t)));
   }
   return traj;
 }

@@ -16,7 +16,9 @@ constexpr double kStartStamp_s = 1.3e9;
 class Random {
  public:
   explicit Random(uint64_t seed) : engine_(seed) {}
-  double Uniform() { return (static_cast<double>(engine_() >> 11) + 0.5) * (1.0 / 9007199254740992.0); }
+  double Uniform() {
+    return (static_cast<double>(engine_() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+  }
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
   double Gaussian() {
     const double u1 = Uniform(), u2 = Uniform();
@@ -37,7 +39,8 @@ struct Wave {
   double amplitude[3], frequency_hz[3], phase[3];
   double At(double t) const {
     double v = 0.0;
-    for (int k = 0; k < 3; ++k) v += amplitude[k] * std::sin(2.0 * kPi * frequency_hz[k] * t + phase[k]);
+    for (int k = 0; k < 3; ++k)
+      v += amplitude[k] * std::sin(2.0 * kPi * frequency_hz[k] * t + phase[k]);
     return v;
   }
 };
@@ -94,9 +97,12 @@ void TrajectoryPairOptions::Validate() const {
   non_negative(noise_m, "--noise-m");
   non_negative(drift_m_per_s, "--drift-m-per-s");
   non_negative(stamp_jitter_s, "stamp jitter");
-  if (!(drop_fraction >= 0.0 && drop_fraction < 1.0)) throw InputError("drop fraction must be in [0, 1)");
-  if (duration_s * rate_hz > 5e7) throw InputError("--duration-s x --rate-hz is too large (> 5e7 poses)");
-  if (stamp_jitter_s * rate_hz >= 0.5) throw InputError("stamp jitter must be below half a frame interval");
+  if (!(drop_fraction >= 0.0 && drop_fraction < 1.0))
+    throw InputError("drop fraction must be in [0, 1)");
+  if (duration_s * rate_hz > 5e7)
+    throw InputError("--duration-s x --rate-hz is too large (> 5e7 poses)");
+  if (stamp_jitter_s * rate_hz >= 0.5)
+    throw InputError("stamp jitter must be below half a frame interval");
 }
 
 Trajectory GenerateSmoothTrajectory(uint64_t seed, double duration_s, double rate_hz) {

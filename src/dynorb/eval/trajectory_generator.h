@@ -20,15 +20,15 @@
 namespace dynorb {
 
 struct TrajectoryPairOptions {
-  uint64_t seed = 1;             // random seed
-  double duration_s = 30.0;      // length of the ground truth
-  double rate_hz = 30.0;         // pose rate of ground truth and estimate
-  double noise_m = 0.01;         // position noise sigma per axis (m); orientation sigma (rad)
-  double drift_m_per_s = 0.002;  // linear position drift of the estimate
-  double scale = 1.0;            // estimate scale (monocular-like when != 1)
-  double drop_fraction = 0.02;   // fraction of estimate frames dropped
-  double stamp_jitter_s = 0.003; // estimate stamps differ from ground truth by up to this
-  void Validate() const;         // throws InputError
+  uint64_t seed = 1;              // random seed
+  double duration_s = 30.0;       // length of the ground truth
+  double rate_hz = 30.0;          // pose rate of ground truth and estimate
+  double noise_m = 0.01;          // position noise sigma per axis (m); orientation sigma (rad)
+  double drift_m_per_s = 0.002;   // linear position drift of the estimate
+  double scale = 1.0;             // estimate scale (monocular-like when != 1)
+  double drop_fraction = 0.02;    // fraction of estimate frames dropped
+  double stamp_jitter_s = 0.003;  // estimate stamps differ from ground truth by up to this
+  void Validate() const;          // throws InputError
 };
 
 struct TrajectoryPair {
