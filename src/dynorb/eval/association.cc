@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <queue>
 #include <string>
 #include <tuple>
@@ -9,6 +10,13 @@
 #include "dynorb/core/error.h"
 
 namespace dynorb {
+namespace {
+std::string ShortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+}  // namespace
 namespace {
 
 void CheckIncreasing(const std::vector<double>& stamps, const char* what) {
@@ -43,7 +51,7 @@ struct Candidate {
 void StampAssociationOptions::Validate() const {
   if (!(max_diff_s > 0.0) || !std::isfinite(max_diff_s)) {
     throw InputError("--max-diff must be a positive number of seconds, got " +
-                     std::to_string(max_diff_s));
+                     ShortNumber(max_diff_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
 }

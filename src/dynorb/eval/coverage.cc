@@ -2,16 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dynorb/core/error.h"
 
 namespace dynorb {
+namespace {
+std::string ShortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+}  // namespace
 
 void CoverageOptions::Validate() const {
   if (!(window_s > 0.0) || !std::isfinite(window_s)) {
     throw InputError("coverage window must be a positive number of seconds, got " +
-                     std::to_string(window_s));
+                     ShortNumber(window_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
 }

@@ -136,7 +136,7 @@ void DrawLegend(PlotLayer& c, const Panel& p, const std::vector<Eigen::Vector2d>
                 const std::vector<LegendEntry>& entries) {
   double max_chars = 0;
   for (const LegendEntry& e : entries) max_chars = std::max<double>(max_chars, e.label.size());
-  const double w = 56 + 8.2 * max_chars, h = 10 + 22.0 * entries.size();
+  const double w = 66 + 9.0 * max_chars, h = 10 + 22.0 * entries.size();
   double x = 0, y = 0;
   size_t best_hidden = std::numeric_limits<size_t>::max();
   for (int corner = 0; corner < 4; ++corner) {

@@ -2,12 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dynorb/core/error.h"
 #include "dynorb/eval/association.h"
 
 namespace dynorb {
+namespace {
+std::string ShortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+}  // namespace
 namespace {
 
 constexpr double kDegPerRad = 57.295779513082320876798;
@@ -27,7 +35,7 @@ double Median(std::vector<double> values) {
 void RpeOptions::Validate() const {
   if (!(delta_s > 0.0) || !std::isfinite(delta_s)) {
     throw InputError("--rpe-delta must be a positive number of seconds, got " +
-                     std::to_string(delta_s));
+                     ShortNumber(delta_s));
   }
   if (!std::isfinite(offset_s)) throw InputError("--offset must be finite");
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError("RPE scale must be positive");
