@@ -2,14 +2,14 @@
 // ~15 ms on one core so tracking keeps ≥ 30 Hz). Image: the real TUM fr3 frame in ../shared if
 // present, else OpenCV's graf1.png, else a synthetic texture (the label says which).
 // The *_1thread variants pin OpenCV to one thread (cv::setNumThreads(1)) and restore it after.
-#include <fstream>
-#include <string>
-
 #include <benchmark/benchmark.h>
+
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "dynorb/features/orb_extractor.h"
 #include "dynorb/features/orb_matcher.h"
@@ -27,13 +27,15 @@ const BenchImage& Frame() {
   static const BenchImage frame = [] {
     const std::string candidates[] = {
         std::string(DYNORB_SOURCE_DIR) +
-            "/../shared/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0/rgb/1341846313.592026.png",
+            "/../shared/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0/rgb/"
+            "1341846313.592026.png",
         "/usr/share/doc/opencv-doc/examples/data/graf1.png"};
     for (const std::string& path : candidates) {
       if (!std::ifstream(path).good()) continue;
       cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
       if (image.empty()) continue;
-      if (image.size() != cv::Size(640, 480)) cv::resize(image, image, cv::Size(640, 480), 0, 0, cv::INTER_AREA);
+      if (image.size() != cv::Size(640, 480))
+        cv::resize(image, image, cv::Size(640, 480), 0, 0, cv::INTER_AREA);
       return BenchImage{image, path.substr(path.find_last_of('/') + 1)};
     }
     return BenchImage{MakeSyntheticTexture(cv::Size(640, 480), 1), "synthetic"};
@@ -83,7 +85,11 @@ void BM_OrbDetectAndDescribe(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(extractor.DetectAndDescribe(image));
   state.SetLabel(Frame().label);
 }
-BENCHMARK(BM_OrbDetectAndDescribe)->Arg(1)->Arg(0)->ArgName("one_thread")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OrbDetectAndDescribe)
+    ->Arg(1)
+    ->Arg(0)
+    ->ArgName("one_thread")
+    ->Unit(benchmark::kMillisecond);
 
 // OpenCV's ORB with ORB-SLAM-like parameters, for comparison (Harris ranking, no quadtree).
 void BM_CvOrbDetectAndCompute(benchmark::State& state) {
@@ -98,7 +104,11 @@ void BM_CvOrbDetectAndCompute(benchmark::State& state) {
   }
   state.SetLabel(Frame().label + " keypoints=" + std::to_string(keypoints.size()));
 }
-BENCHMARK(BM_CvOrbDetectAndCompute)->Arg(1)->Arg(0)->ArgName("one_thread")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CvOrbDetectAndCompute)
+    ->Arg(1)
+    ->Arg(0)
+    ->ArgName("one_thread")
+    ->Unit(benchmark::kMillisecond);
 
 void BM_MatchBruteForce1000x1000(benchmark::State& state) {
   cv::Mat a(1000, kBriefBytes, CV_8UC1), b(1000, kBriefBytes, CV_8UC1);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/features/orb_descriptor.h"
@@ -14,7 +13,8 @@ namespace {
 #if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target_clones("popcnt", "default")))
 #endif
-int64_t CountBoth(const uint64_t* a, const uint64_t* b, int n_words) {
+int64_t
+CountBoth(const uint64_t* a, const uint64_t* b, int n_words) {
   int64_t n = 0;
   for (int w = 0; w < n_words; ++w) n += __builtin_popcountll(a[w] & b[w]);
   return n;
@@ -77,9 +77,8 @@ std::vector<int> SelectUncorrelatedTests(const TestOutcomes& outcomes,
       order.push_back(c);
     }
   }
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return std::abs(mean[a] - 0.5) < std::abs(mean[b] - 0.5);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return std::abs(mean[a] - 0.5) < std::abs(mean[b] - 0.5); });
   if (static_cast<int>(order.size()) <= options.n_select) return order;
   std::vector<int> selected;
   for (double threshold = options.initial_threshold; threshold <= 1.0 + 1e-9;

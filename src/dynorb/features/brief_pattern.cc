@@ -37,7 +37,8 @@ int SampleUniformPixel(SplitMix64& rng) {
 }
 
 // Learned by brief_learning.h from GenerateBriefCandidates(kBriefCandidateSeed, 65536) on the
-// training images of docs/features.md. Regenerate with the DISABLED_ test of brief_learning_test.cc.
+// training images of docs/features.md. Regenerate with the DISABLED_ test of
+// brief_learning_test.cc.
 constexpr BriefPair kLearnedPattern[kBriefBits] = {
 #include "dynorb/features/brief_pattern_table.inc"
 };

@@ -5,8 +5,8 @@
 // the rBRIEF learning procedure (Rublee et al., "ORB: an efficient alternative to SIFT or SURF",
 // ICCV 2011, §4.3; see brief_learning.h) from a deterministic pool of candidate pairs
 // (GenerateBriefCandidates below) on keypoints of a fixed list of training images (docs/features.md
-// lists them; the DISABLED_ test in brief_learning_test.cc regenerates the table). Learned tests are
-// balanced (bit mean near 0.5) and mutually decorrelated after steering, which a raw random
+// lists them; the DISABLED_ test in brief_learning_test.cc regenerates the table). Learned tests
+// are balanced (bit mean near 0.5) and mutually decorrelated after steering, which a raw random
 // pattern is not (steered BRIEF loses variance — ORB paper §4.1).
 //
 // Consequence (docs/features.md): descriptors are NOT bit-compatible with ORB-SLAM2 / OpenCV ORB
@@ -40,7 +40,8 @@ const std::array<BriefPair, kBriefBits>& BriefPattern();
 // order) inside the disc of radius kBriefMaxRadius, alternating between two families:
 //  - even indices: both points i.i.d. ≈ N(0, (31/5)²) — BRIEF's "G II" sampling (Calonder et al.,
 //    ECCV 2010), approximated by the Irwin–Hall sum of 12 uniforms;
-//  - odd indices: both points uniform in the disc (the ORB paper's candidates span the whole patch).
+//  - odd indices: both points uniform in the disc (the ORB paper's candidates span the whole
+//  patch).
 // Randomness is SplitMix64 from `seed` in integer arithmetic: identical on every platform.
 std::vector<BriefPair> GenerateBriefCandidates(uint64_t seed, int count);
 

@@ -1,11 +1,11 @@
 #include "dynorb/features/brief_pattern.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <set>
 #include <tuple>
-
-#include <gtest/gtest.h>
 
 namespace dynorb {
 namespace {

@@ -1,7 +1,6 @@
 #include "dynorb/features/image_pyramid.h"
 
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace dynorb {

@@ -11,9 +11,8 @@
 // Immutable after construction; safe to share between threads (KeypointSet holds a shared_ptr).
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace dynorb {
 
@@ -30,11 +29,11 @@ struct ScaleLevels {
   int NumLevels() const { return static_cast<int>(scale.size()); }
 
   double scale_factor = 1.2;
-  double log_scale_factor = 0.0;  // log(scale_factor), for predicting levels from distances
-  std::vector<double> scale;      // s^l
-  std::vector<double> inv_scale;  // s^-l
-  std::vector<double> sigma2;     // s^2l
-  std::vector<double> inv_sigma2; // s^-2l
+  double log_scale_factor = 0.0;   // log(scale_factor), for predicting levels from distances
+  std::vector<double> scale;       // s^l
+  std::vector<double> inv_scale;   // s^-l
+  std::vector<double> sigma2;      // s^2l
+  std::vector<double> inv_sigma2;  // s^-2l
 };
 
 class ImagePyramid {

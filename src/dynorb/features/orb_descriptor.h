@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "dynorb/features/brief_pattern.h"

@@ -3,10 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
-
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "dynorb/core/error.h"
 #include "dynorb/features/brief_pattern.h"
@@ -17,15 +16,15 @@ namespace dynorb {
 namespace {
 
 // Programming-error check (aborts); bad input is reported with InputError instead.
-#define DYNORB_FEATURES_CHECK(cond)                                                    \
-  do {                                                                                 \
-    if (!(cond)) {                                                                     \
-      std::fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);    \
-      std::abort();                                                                    \
-    }                                                                                  \
+#define DYNORB_FEATURES_CHECK(cond)                                                 \
+  do {                                                                              \
+    if (!(cond)) {                                                                  \
+      std::fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
+      std::abort();                                                                 \
+    }                                                                               \
   } while (0)
 
-constexpr int kFastRing = 3;                          // FAST's circle radius
+constexpr int kFastRing = 3;                               // FAST's circle radius
 constexpr int kDetectBorder = kEdgeThreshold - kFastRing;  // FAST window starts 16 px inside
 
 std::vector<int> FeaturesPerLevel(const OrbOptions& o) {
@@ -50,7 +49,8 @@ void OrbOptions::Validate() const {
   if (!(scale_factor > 1.0 && scale_factor <= 4.0)) {
     fail("scale_factor must be in (1, 4], got " + std::to_string(scale_factor));
   }
-  if (n_levels < 1 || n_levels > 32) fail("n_levels must be in [1, 32], got " + std::to_string(n_levels));
+  if (n_levels < 1 || n_levels > 32)
+    fail("n_levels must be in [1, 32], got " + std::to_string(n_levels));
   if (ini_th_fast < 1 || ini_th_fast > 254) {
     fail("ini_th_fast must be in [1, 254], got " + std::to_string(ini_th_fast));
   }
@@ -80,8 +80,10 @@ std::vector<cv::KeyPoint> OrbExtractor::DetectOnLevel(const cv::Mat& level, int 
   cv::FAST(window, found, options_.ini_th_fast, true);
 
   // Cells tile the region where FAST can fire, [3, w − 3) × [3, h − 3) in window coordinates.
-  const int n_cols = std::max(1, static_cast<int>(std::lround(double(inner_w) / options_.cell_size_px)));
-  const int n_rows = std::max(1, static_cast<int>(std::lround(double(inner_h) / options_.cell_size_px)));
+  const int n_cols =
+      std::max(1, static_cast<int>(std::lround(double(inner_w) / options_.cell_size_px)));
+  const int n_rows =
+      std::max(1, static_cast<int>(std::lround(double(inner_h) / options_.cell_size_px)));
   const int cell_w = (inner_w + n_cols - 1) / n_cols, cell_h = (inner_h + n_rows - 1) / n_rows;
   std::vector<uint8_t> occupied(n_cols * n_rows, 0);
   for (const cv::KeyPoint& kp : found) {
@@ -175,7 +177,8 @@ cv::Mat OrbExtractor::Describe(const KeypointSet& set) const {
   return Describe(set, all);
 }
 
-OrbFeatures OrbExtractor::DescribeKept(const KeypointSet& set, const std::vector<bool>& keep) const {
+OrbFeatures OrbExtractor::DescribeKept(const KeypointSet& set,
+                                       const std::vector<bool>& keep) const {
   DYNORB_FEATURES_CHECK(static_cast<int>(keep.size()) == set.size());
   std::vector<int> indices;
   OrbFeatures out;

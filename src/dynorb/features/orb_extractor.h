@@ -17,21 +17,20 @@
 #pragma once
 
 #include <memory>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "dynorb/features/image_pyramid.h"
 
 namespace dynorb {
 
 struct OrbOptions {
-  int n_features = 1000;       // total keypoint budget over all levels
-  double scale_factor = 1.2;   // scale ratio between consecutive pyramid levels (> 1)
-  int n_levels = 8;            // number of pyramid levels
-  int ini_th_fast = 20;        // FAST threshold tried first in every cell
-  int min_th_fast = 7;         // FAST threshold in cells where ini_th_fast finds nothing
-  int cell_size_px = 30;       // side of the FAST detection cells (level pixels)
+  int n_features = 1000;      // total keypoint budget over all levels
+  double scale_factor = 1.2;  // scale ratio between consecutive pyramid levels (> 1)
+  int n_levels = 8;           // number of pyramid levels
+  int ini_th_fast = 20;       // FAST threshold tried first in every cell
+  int min_th_fast = 7;        // FAST threshold in cells where ini_th_fast finds nothing
+  int cell_size_px = 30;      // side of the FAST detection cells (level pixels)
 
   // Throws InputError on out-of-range values.
   void Validate() const;
@@ -39,8 +38,8 @@ struct OrbOptions {
 
 // Keypoints of one image plus the pyramid they were detected on (kept for Describe()).
 struct KeypointSet {
-  std::vector<cv::KeyPoint> keypoints;       // full-resolution coordinates (see file comment)
-  std::vector<cv::Point> level_pixels;       // keypoints[i]'s integer pixel in its level
+  std::vector<cv::KeyPoint> keypoints;  // full-resolution coordinates (see file comment)
+  std::vector<cv::Point> level_pixels;  // keypoints[i]'s integer pixel in its level
   std::shared_ptr<const ImagePyramid> pyramid;
 
   int size() const { return static_cast<int>(keypoints.size()); }

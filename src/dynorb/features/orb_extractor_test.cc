@@ -1,11 +1,11 @@
 #include "dynorb/features/orb_extractor.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numeric>
-#include <set>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "dynorb/core/error.h"
 #include "dynorb/features/brief_pattern.h"
@@ -116,7 +116,8 @@ TEST(OrbExtractor, DistributionCoversTheImage) {
   // Level 0 alone covers it too (its keypoints lie ≥ 19 px inside).
   std::set<int> cells0;
   for (const cv::KeyPoint& kp : set.keypoints) {
-    if (kp.octave == 0) cells0.insert(static_cast<int>(kp.pt.y / 80) * 8 + static_cast<int>(kp.pt.x / 80));
+    if (kp.octave == 0)
+      cells0.insert(static_cast<int>(kp.pt.y / 80) * 8 + static_cast<int>(kp.pt.x / 80));
   }
   EXPECT_GE(cells0.size(), 0.8 * 48);
 }
@@ -126,7 +127,8 @@ TEST(OrbExtractor, FallbackThresholdFindsWeakCorners) {
   // fallback threshold can find their corners.
   cv::Mat image(kVga, CV_8UC1, cv::Scalar(100));
   for (int y = 40; y < 440; y += 60) {
-    for (int x = 40; x < 600; x += 60) cv::rectangle(image, {x, y}, {x + 20, y + 20}, cv::Scalar(112), cv::FILLED);
+    for (int x = 40; x < 600; x += 60)
+      cv::rectangle(image, {x, y}, {x + 20, y + 20}, cv::Scalar(112), cv::FILLED);
   }
   OrbOptions strict;
   strict.min_th_fast = strict.ini_th_fast;
@@ -146,7 +148,8 @@ TEST(OrbExtractor, KnownCornerFoundAtEveryLevelWithoutBias) {
   options.n_features = 20000;
   const OrbExtractor extractor(options);
   const KeypointSet set = extractor.Detect(image);
-  const cv::Point2f corners[4] = {{159.5f, 119.5f}, {479.5f, 119.5f}, {159.5f, 359.5f}, {479.5f, 359.5f}};
+  const cv::Point2f corners[4] = {
+      {159.5f, 119.5f}, {479.5f, 119.5f}, {159.5f, 359.5f}, {479.5f, 359.5f}};
   for (int l = 0; l < 8; ++l) {
     const double s = extractor.levels().scale[l];
     cv::Point2f offset_sum(0, 0);
@@ -221,7 +224,8 @@ TEST(OrbExtractor, DescriptorBitsAreBalancedAndDistinct) {
   int extreme_bits = 0;
   for (int bit = 0; bit < kBriefBits; ++bit) {
     int ones = 0;
-    for (int r = 0; r < f.descriptors.rows; ++r) ones += (f.descriptors.at<uint8_t>(r, bit / 8) >> (bit % 8)) & 1;
+    for (int r = 0; r < f.descriptors.rows; ++r)
+      ones += (f.descriptors.at<uint8_t>(r, bit / 8) >> (bit % 8)) & 1;
     const double p = static_cast<double>(ones) / f.descriptors.rows;
     if (p < 0.2 || p > 0.8) ++extreme_bits;
   }

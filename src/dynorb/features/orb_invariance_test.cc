@@ -1,13 +1,13 @@
 // Geometric behaviour of the extractor: scale consistency across pyramids and rotation invariance
 // of angle and descriptor, on a synthetic texture and (if installed) OpenCV's sample images.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "dynorb/features/orb_extractor.h"
 #include "dynorb/features/orb_matcher.h"
@@ -96,9 +96,12 @@ void CheckRotationInvariance(const cv::Mat& image, double rotation_deg) {
   for (int i = 0; i < static_cast<int>(a.keypoints.size()); ++i) {
     const cv::KeyPoint& kp = a.keypoints[i];
     if (kp.octave > 3) continue;
-    const double x = rot.at<double>(0, 0) * kp.pt.x + rot.at<double>(0, 1) * kp.pt.y + rot.at<double>(0, 2);
-    const double y = rot.at<double>(1, 0) * kp.pt.x + rot.at<double>(1, 1) * kp.pt.y + rot.at<double>(1, 2);
-    if (std::hypot(x - centre.x, y - centre.y) > 0.4 * image.rows) continue;  // away from black corners
+    const double x =
+        rot.at<double>(0, 0) * kp.pt.x + rot.at<double>(0, 1) * kp.pt.y + rot.at<double>(0, 2);
+    const double y =
+        rot.at<double>(1, 0) * kp.pt.x + rot.at<double>(1, 1) * kp.pt.y + rot.at<double>(1, 2);
+    if (std::hypot(x - centre.x, y - centre.y) > 0.4 * image.rows)
+      continue;  // away from black corners
     const float radius = static_cast<float>(1.5 * extractor.levels().scale[kp.octave]);
     int best = -1;
     double best_d = 1e9;
@@ -115,8 +118,8 @@ void CheckRotationInvariance(const cv::Mat& image, double rotation_deg) {
   }
   ASSERT_GT(angle_errors.size(), 100u);
   EXPECT_LT(Median(angle_errors), 4.0);
-  const double within_10 = std::count_if(angle_errors.begin(), angle_errors.end(),
-                                         [](double e) { return e < 10.0; });
+  const double within_10 =
+      std::count_if(angle_errors.begin(), angle_errors.end(), [](double e) { return e < 10.0; });
   EXPECT_GT(within_10 / angle_errors.size(), 0.75);
   auto fraction_below = [](const std::vector<double>& v, double t) {
     return std::count_if(v.begin(), v.end(), [t](double d) { return d < t; }) /
@@ -128,7 +131,9 @@ void CheckRotationInvariance(const cv::Mat& image, double rotation_deg) {
   EXPECT_LT(fraction_below(random_distances, 64.0), 0.02);
 }
 
-TEST(OrbInvariance, ScaleConsistencySynthetic) { CheckScaleConsistency(MakeSyntheticTexture({640, 480}, 11)); }
+TEST(OrbInvariance, ScaleConsistencySynthetic) {
+  CheckScaleConsistency(MakeSyntheticTexture({640, 480}, 11));
+}
 
 TEST(OrbInvariance, RotationSynthetic30Degrees) {
   CheckRotationInvariance(MakeSyntheticTexture({640, 480}, 12), 30.0);

@@ -80,8 +80,8 @@ std::vector<DescriptorMatch> MatchBruteForce(const cv::Mat& query, const cv::Mat
   if (query.empty() || train.empty()) return {};
   const int nq = query.rows, nt = train.rows;
   std::vector<int> q_best(nq), q_best_d(nq), q_second_d(nq), t_best(nt), t_best_d(nt);
-  NearestNeighbours(query, train, q_best.data(), q_best_d.data(), q_second_d.data(),
-                    t_best.data(), t_best_d.data());
+  NearestNeighbours(query, train, q_best.data(), q_best_d.data(), q_second_d.data(), t_best.data(),
+                    t_best_d.data());
   std::vector<DescriptorMatch> matches;
   for (int q = 0; q < nq; ++q) {
     const int d = q_best_d[q];

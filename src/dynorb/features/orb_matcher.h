@@ -8,9 +8,8 @@
 
 #include <cstdint>
 #include <cstring>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "dynorb/features/brief_pattern.h"
 
@@ -34,9 +33,9 @@ inline int HammingDistance256(const cv::Mat& a, int row_a, const cv::Mat& b, int
 }
 
 struct BruteForceMatchOptions {
-  int max_distance = 100;   // reject matches with a larger Hamming distance (ORB-SLAM TH_HIGH)
-  double max_ratio = 0.8;   // keep if best < max_ratio · second best (1 disables the ratio test)
-  bool mutual_check = true; // keep only if the query is also the train descriptor's best match
+  int max_distance = 100;    // reject matches with a larger Hamming distance (ORB-SLAM TH_HIGH)
+  double max_ratio = 0.8;    // keep if best < max_ratio · second best (1 disables the ratio test)
+  bool mutual_check = true;  // keep only if the query is also the train descriptor's best match
 
   // Throws InputError on out-of-range values.
   void Validate() const;

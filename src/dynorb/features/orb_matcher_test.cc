@@ -1,10 +1,10 @@
 #include "dynorb/features/orb_matcher.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <limits>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "dynorb/core/error.h"
 
@@ -20,7 +20,8 @@ cv::Mat RandomDescriptors(int n, uint64_t seed) {
 
 int NaiveDistance(const uint8_t* a, const uint8_t* b) {
   int d = 0;
-  for (int i = 0; i < kBriefBits; ++i) d += ((a[i / 8] >> (i % 8)) & 1) != ((b[i / 8] >> (i % 8)) & 1);
+  for (int i = 0; i < kBriefBits; ++i)
+    d += ((a[i / 8] >> (i % 8)) & 1) != ((b[i / 8] >> (i % 8)) & 1);
   return d;
 }
 
@@ -32,18 +33,22 @@ TEST(HammingDistance256, MatchesNaiveBitCount) {
     }
     EXPECT_EQ(HammingDistance256(a, i, a, i), 0);
   }
-  cv::Mat zeros(1, kBriefBytes, CV_8UC1, cv::Scalar(0)), ones(1, kBriefBytes, CV_8UC1, cv::Scalar(255));
+  cv::Mat zeros(1, kBriefBytes, CV_8UC1, cv::Scalar(0)),
+      ones(1, kBriefBytes, CV_8UC1, cv::Scalar(255));
   EXPECT_EQ(HammingDistance256(zeros, 0, ones, 0), 256);
   // Unaligned rows (a column range view) work too.
   cv::Mat wide = RandomDescriptors(3, 3);
   cv::Mat big(3, kBriefBytes + 1, CV_8UC1);
   wide.copyTo(big.colRange(1, kBriefBytes + 1));
-  EXPECT_EQ(HammingDistance256(big.ptr(0) + 1, wide.ptr(1)), NaiveDistance(wide.ptr(0), wide.ptr(1)));
+  EXPECT_EQ(HammingDistance256(big.ptr(0) + 1, wide.ptr(1)),
+            NaiveDistance(wide.ptr(0), wide.ptr(1)));
 }
 
 // Reference implementation of MatchBruteForce's documented semantics.
-std::vector<DescriptorMatch> NaiveMatch(const cv::Mat& q, const cv::Mat& t, const BruteForceMatchOptions& o) {
-  auto best_of = [](const cv::Mat& from, int row, const cv::Mat& to, int* best, int* best_d, int* second_d) {
+std::vector<DescriptorMatch> NaiveMatch(const cv::Mat& q, const cv::Mat& t,
+                                        const BruteForceMatchOptions& o) {
+  auto best_of = [](const cv::Mat& from, int row, const cv::Mat& to, int* best, int* best_d,
+                    int* second_d) {
     *best = -1;
     *best_d = *second_d = std::numeric_limits<int>::max();
     for (int j = 0; j < to.rows; ++j) {
@@ -62,7 +67,9 @@ std::vector<DescriptorMatch> NaiveMatch(const cv::Mat& q, const cv::Mat& t, cons
     int best, best_d, second_d;
     best_of(q, i, t, &best, &best_d, &second_d);
     if (best_d > o.max_distance) continue;
-    if (o.max_ratio < 1.0 && second_d != std::numeric_limits<int>::max() && !(best_d < o.max_ratio * second_d)) continue;
+    if (o.max_ratio < 1.0 && second_d != std::numeric_limits<int>::max() &&
+        !(best_d < o.max_ratio * second_d))
+      continue;
     if (o.mutual_check) {
       int back, back_d, unused;
       best_of(t, best, q, &back, &back_d, &unused);

@@ -65,8 +65,11 @@ std::vector<int> DistributeQuadtree(const std::vector<cv::KeyPoint>& keypoints,
     std::vector<Node> roots(n_cols * n_rows);
     for (int r = 0; r < n_rows; ++r) {
       for (int c = 0; c < n_cols; ++c) {
-        roots[r * n_cols + c] = Node{region.x + c * cw, region.y + r * ch, region.x + (c + 1) * cw,
-                                     region.y + (r + 1) * ch, {}};
+        roots[r * n_cols + c] = Node{region.x + c * cw,
+                                     region.y + r * ch,
+                                     region.x + (c + 1) * cw,
+                                     region.y + (r + 1) * ch,
+                                     {}};
       }
     }
     for (int i = 0; i < n; ++i) {

@@ -10,9 +10,8 @@
 // Deterministic (no hashing, stable sorts). Pure function; thread-safe.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace dynorb {
 

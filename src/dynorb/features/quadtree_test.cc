@@ -1,15 +1,17 @@
 #include "dynorb/features/quadtree.h"
 
-#include <algorithm>
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <opencv2/core.hpp>
+#include <set>
 
 namespace dynorb {
 namespace {
 
-cv::KeyPoint Kp(float x, float y, float response) { return cv::KeyPoint(x, y, 31.f, -1.f, response); }
+cv::KeyPoint Kp(float x, float y, float response) {
+  return cv::KeyPoint(x, y, 31.f, -1.f, response);
+}
 
 TEST(Quadtree, FewerKeypointsThanBudgetKeepsAll) {
   const std::vector<cv::KeyPoint> kps = {Kp(1, 1, 5), Kp(50, 2, 3), Kp(7, 90, 1)};
@@ -42,7 +44,8 @@ TEST(Quadtree, ReachesBudgetAndSpreadsUniformly) {
   // Dense uniform lattice plus a very dense blob in one corner: the blob must not eat the budget.
   std::vector<cv::KeyPoint> kps;
   for (int y = 0; y < 480; y += 4) {
-    for (int x = 0; x < 640; x += 4) kps.push_back(Kp(x, y, static_cast<float>((x * 31 + y * 17) % 50)));
+    for (int x = 0; x < 640; x += 4)
+      kps.push_back(Kp(x, y, static_cast<float>((x * 31 + y * 17) % 50)));
   }
   for (int y = 0; y < 40; ++y) {
     for (int x = 1; x < 40; x += 2) kps.push_back(Kp(x, y + 0.5f, 100.f));
@@ -57,8 +60,8 @@ TEST(Quadtree, ReachesBudgetAndSpreadsUniformly) {
     if (kps[i].pt.x < 40 && kps[i].pt.y < 40) ++in_blob;
     cells.insert(static_cast<int>(kps[i].pt.y / 80) * 8 + static_cast<int>(kps[i].pt.x / 80));
   }
-  EXPECT_LT(in_blob, 15);         // blob area is 0.5 % of the region
-  EXPECT_EQ(cells.size(), 48u);   // every 80×80 cell of an 8×6 grid holds a keypoint
+  EXPECT_LT(in_blob, 15);        // blob area is 0.5 % of the region
+  EXPECT_EQ(cells.size(), 48u);  // every 80×80 cell of an 8×6 grid holds a keypoint
   std::vector<int> sorted = kept;
   std::sort(sorted.begin(), sorted.end());
   EXPECT_TRUE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
