@@ -60,7 +60,7 @@ bool Relocalizer::TryCandidate(const MapData& map, KeyframeId candidate, Frame* 
   cv::eigen2cv(sensor_.camera.K(), k);
   cv::Mat rvec, tvec;
   std::vector<int> inliers;
-  cv::setRNGSeed(static_cast<int>(frame->id));  // Deterministic RANSAC.
+  cv::setRNGSeed(static_cast<int>((options_.seed * 1000003ULL + frame->id) & 0x7fffffff));  // Deterministic.
   const bool ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false, 300, 4.0f, 0.99, inliers,
                                      cv::SOLVEPNP_EPNP);
   if (!ok || static_cast<int>(inliers.size()) < options_.min_frame_inliers) return false;

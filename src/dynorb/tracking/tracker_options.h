@@ -1,6 +1,8 @@
 // Options of the tracker (defaults: ORB-SLAM2's RGB-D values).
 #pragma once
 
+#include <cstdint>
+
 #include "dynorb/optimization/pose_optimizer.h"
 #include "dynorb/tracking/projection_search.h"
 
@@ -23,6 +25,7 @@ struct TrackerOptions {
   int close_untracked_min = 70;            // ... and untracked close > this.
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
   int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
+  uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
   PoseOptimizerOptions pose;
   MatcherOptions matcher;
 

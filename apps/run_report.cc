@@ -1,0 +1,120 @@
+#include "run_report.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "dynorb/core/stats.h"
+
+namespace dynorb {
+namespace {
+
+nlohmann::json StatsJson(const std::vector<double>& values) {
+  const SummaryStats s = Summarize(values);
+  return {{"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}, {"count", s.count}};
+}
+
+}  // namespace
+
+EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Trajectory& estimate,
+                                      const std::vector<FrameRecord>& records) {
+  const double begin = records.front().timestamp_s - 0.05, end = records.back().timestamp_s + 0.05;
+  Trajectory cropped;
+  for (const StampedPose& p : ground_truth) {
+    if (p.timestamp_s >= begin && p.timestamp_s <= end) cropped.push_back(p);
+  }
+  return EvaluateTrajectories(cropped, estimate, EvalOptions());
+}
+
+nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& inputs,
+                             const std::optional<EvalResult>& evaluation) {
+  const std::vector<FrameRecord>& records = system.records();
+  int tracked = 0, lost_episodes = 0, relocalizations = 0, keyframes_inserted = 0;
+  bool was_lost = false;
+  std::vector<double> detect, filter, describe, track, local_map, mapping, total, keypoints, filtered, inliers;
+  for (const FrameRecord& r : records) {
+    tracked += r.pose_valid ? 1 : 0;
+    const bool lost = r.state == TrackingState::kLost;
+    if (lost && !was_lost) ++lost_episodes;
+    was_lost = lost;
+    relocalizations += r.relocalized ? 1 : 0;
+    keyframes_inserted += r.new_keyframe ? 1 : 0;
+    detect.push_back(r.timing.detect_ms);
+    filter.push_back(r.timing.filter_ms);
+    describe.push_back(r.timing.describe_ms);
+    track.push_back(r.timing.track_ms);
+    local_map.push_back(r.timing.local_map_ms);
+    mapping.push_back(r.timing.mapping_ms);
+    total.push_back(r.timing.total_ms);
+    keypoints.push_back(r.num_keypoints);
+    filtered.push_back(r.num_filtered);
+    inliers.push_back(r.num_inliers);
+  }
+  std::vector<double> mapper_ms, ba_ms;
+  for (const MapperStepStats& m : system.mapper_stats()) {
+    mapper_ms.push_back(m.total_ms);
+    ba_ms.push_back(m.bundle_adjustment_ms);
+  }
+  const double n = std::max<size_t>(1, records.size());
+  nlohmann::json j;
+  j["dataset"] = inputs.dataset;
+  j["config"] = inputs.config;
+  j["mode"] = inputs.mode;
+  j["run_mode"] = inputs.run_mode;
+  j["seed"] = inputs.seed;
+  j["first_frame"] = inputs.first_frame;
+  j["frames"] = records.size();
+  j["tracked_frames"] = tracked;
+  j["tracked_fraction"] = tracked / n;
+  j["lost_episodes"] = lost_episodes;
+  j["relocalizations"] = relocalizations;
+  j["keyframes_inserted"] = keyframes_inserted;
+  j["keyframes"] = system.NumKeyframes();
+  j["landmarks"] = system.NumLandmarks();
+  j["wall_seconds"] = inputs.wall_seconds;
+  j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
+  j["keypoints_per_frame"] = StatsJson(keypoints);
+  j["filtered_keypoints_per_frame"] = StatsJson(filtered);
+  j["inliers_per_frame"] = StatsJson(inliers);
+  j["timing_ms"] = {{"detect", StatsJson(detect)},     {"filter", StatsJson(filter)},
+                    {"describe", StatsJson(describe)}, {"track", StatsJson(track)},
+                    {"local_map", StatsJson(local_map)}, {"mapping_inline", StatsJson(mapping)},
+                    {"frame_total", StatsJson(total)}, {"mapper_per_keyframe", StatsJson(mapper_ms)},
+                    {"local_ba_per_keyframe", StatsJson(ba_ms)}};
+  if (evaluation) {
+    const EvalResult& e = *evaluation;
+    j["ate"] = {{"rmse_m", e.ate.stats.rmse}, {"mean_m", e.ate.stats.mean}, {"median_m", e.ate.stats.median},
+                {"max_m", e.ate.stats.max}, {"pairs", e.ate.stats.count}, {"alignment", "se3"}};
+    j["rpe"] = {{"trans_rmse_m_per_s", e.rpe.trans_m.rmse}, {"rot_rmse_deg_per_s", e.rpe.rot_deg.rmse},
+                {"pairs", e.rpe.trans_m.count}};
+    j["coverage"] = e.coverage.fraction;
+  }
+  return j;
+}
+
+std::string FormatRunSummary(const nlohmann::json& stats) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof(line), "frames            %d (tracked %.1f %%, %d lost episodes, %d relocalizations)\n",
+                stats["frames"].get<int>(), 100.0 * stats["tracked_fraction"].get<double>(),
+                stats["lost_episodes"].get<int>(), stats["relocalizations"].get<int>());
+  out << line;
+  std::snprintf(line, sizeof(line), "map               %d keyframes, %d landmarks\n", stats["keyframes"].get<int>(),
+                stats["landmarks"].get<int>());
+  out << line;
+  std::snprintf(line, sizeof(line), "time per frame    %.1f ms mean, %.1f ms p95 (%.1f Hz wall)\n",
+                stats["timing_ms"]["frame_total"]["mean"].get<double>(),
+                stats["timing_ms"]["frame_total"]["p95"].get<double>(), stats["wall_hz"].get<double>());
+  out << line;
+  if (stats.contains("ate")) {
+    std::snprintf(line, sizeof(line), "ATE RMSE          %.4f m (%d pairs, coverage %.1f %%)\n",
+                  stats["ate"]["rmse_m"].get<double>(), stats["ate"]["pairs"].get<int>(),
+                  100.0 * stats["coverage"].get<double>());
+    out << line;
+    std::snprintf(line, sizeof(line), "RPE (1 s)         %.4f m/s, %.3f deg/s\n",
+                  stats["rpe"]["trans_rmse_m_per_s"].get<double>(), stats["rpe"]["rot_rmse_deg_per_s"].get<double>());
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace dynorb
