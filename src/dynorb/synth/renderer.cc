@@ -125,12 +125,12 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       if (!sprite) {
         const float a = static_cast<float>(p.a);
         const float row_c = static_cast<float>(p.b * y + p.c);
+        const int index = static_cast<int>(qi);
         for (int x = x_begin; x < x_end; ++x) {
           const float iz = a * x + row_c;
-          if (iz > zrow[x]) {
-            zrow[x] = iz;
-            irow[x] = static_cast<int>(qi);
-          }
+          const bool nearer = iz > zrow[x];  // branch-free so that the loop vectorises
+          zrow[x] = nearer ? iz : zrow[x];
+          irow[x] = nearer ? index : irow[x];
         }
         continue;
       }

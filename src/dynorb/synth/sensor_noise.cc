@@ -1,0 +1,132 @@
+#include "dynorb/synth/sensor_noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace dynorb::synth {
+namespace {
+
+constexpr double kFocalBaseline = 580.0 * 0.075;  // Kinect v1 IR focal length (px) * baseline (m)
+
+}  // namespace
+
+cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint64_t seed) {
+  CV_Assert(depth_m.type() == CV_32F);
+  const int w = depth_m.cols, h = depth_m.rows;
+  cv::Mat out(depth_m.size(), CV_16U);
+  if (!options.noise) {
+    for (int y = 0; y < h; ++y) {
+      const float* d = depth_m.ptr<float>(y);
+      uint16_t* o = out.ptr<uint16_t>(y);
+      for (int x = 0; x < w; ++x) {
+        const double z = d[x];
+        o[x] = (z > 0.0 && z <= options.max_depth_m) ? static_cast<uint16_t>(std::lround(z * options.depth_factor)) : 0;
+      }
+    }
+    return out;
+  }
+  cv::RNG rng(seed);
+  // Correlated noise (block matching window) plus a little per-pixel noise, in units of sigma.
+  cv::Mat coarse(h / 4 + 1, w / 4 + 1, CV_32F), correlated, fine(depth_m.size(), CV_32F);
+  rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::resize(coarse, correlated, depth_m.size(), 0, 0, cv::INTER_LINEAR);
+  rng.fill(fine, cv::RNG::NORMAL, 0.0, 0.5);
+  // Invalid pixels: discontinuities (with a random 0-1 px margin) and the projector's shadow.
+  cv::Mat invalid = cv::Mat::zeros(depth_m.size(), CV_8U);
+  for (int y = 0; y < h; ++y) {
+    const float* d = depth_m.ptr<float>(y);
+    const float* up = depth_m.ptr<float>(std::max(0, y - 1));
+    uchar* inv = invalid.ptr<uchar>(y);
+    for (int x = 1; x < w; ++x) {
+      const float a = d[x - 1], b = d[x];
+      const float jump_h = std::abs(a - b), jump_v = std::abs(up[x] - b);
+      const float near = std::min(a, b);
+      if (jump_h > 0.04f * near * near + 0.03f || jump_v > 0.04f * near * near + 0.03f) {
+        inv[x] = inv[x - 1] = 1;
+        if (rng.uniform(0.0, 1.0) < 0.5 && x + 1 < w) inv[x + 1] = 1;
+        if (rng.uniform(0.0, 1.0) < 0.5 && x >= 2) inv[x - 2] = 1;
+      }
+      // Foreground starting at x (nearer than its left neighbour): shadow to its left.
+      if (b > 0.0f && a > b + 0.1f) {
+        const double far = a > 0.0f ? a : 10.0;
+        const int width = static_cast<int>(0.5 * kFocalBaseline * (1.0 / b - 1.0 / far) + rng.uniform(0.0, 1.0));
+        for (int k = 1; k <= width && x - k >= 0; ++k) inv[x - k] = 1;
+      }
+    }
+  }
+  const double q = 1.0 / 8.0;  // disparity quantisation
+  for (int y = 0; y < h; ++y) {
+    const float* d = depth_m.ptr<float>(y);
+    const float* c = correlated.ptr<float>(y);
+    const float* f = fine.ptr<float>(y);
+    const uchar* inv = invalid.ptr<uchar>(y);
+    uint16_t* o = out.ptr<uint16_t>(y);
+    for (int x = 0; x < w; ++x) {
+      const double z = d[x];
+      o[x] = 0;
+      if (z <= 0.0 || inv[x]) continue;
+      // Range limit with a soft edge; random speckle dropouts.
+      const double edge = options.max_depth_m - 0.3;
+      if (z > options.max_depth_m || (z > edge && rng.uniform(0.0, 1.0) < (z - edge) / 0.3)) continue;
+      if (rng.uniform(0.0, 1.0) < 0.002) continue;
+      const double sigma = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4);
+      const double noisy = z + sigma * (c[x] + f[x]);
+      const double disparity = std::round(kFocalBaseline / noisy / q) * q;
+      const double zq = kFocalBaseline / disparity;
+      o[x] = static_cast<uint16_t>(std::clamp(std::lround(zq * options.depth_factor), 0L, 65535L));
+    }
+  }
+  return out;
+}
+
+void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, const SensorOptions& options,
+                     uint64_t seed) {
+  if (!options.noise) return;
+  cv::Mat& img = *rgb;
+  // Motion blur: a line kernel along the image motion.
+  const double length = options.exposure_fraction * std::hypot(motion_px.x, motion_px.y);
+  if (length > 0.7) {
+    const int size = 2 * static_cast<int>(std::ceil(length / 2.0)) + 1;
+    cv::Mat kernel = cv::Mat::zeros(size, size, CV_32F);
+    const cv::Point2d dir = motion_px * (1.0 / std::hypot(motion_px.x, motion_px.y));
+    const int samples = 4 * size;
+    for (int i = 0; i < samples; ++i) {
+      const double s = (i / (samples - 1.0) - 0.5) * length;
+      const double px = size / 2 + s * dir.x, py = size / 2 + s * dir.y;
+      const int x0 = static_cast<int>(std::floor(px)), y0 = static_cast<int>(std::floor(py));
+      const float fx = static_cast<float>(px - x0), fy = static_cast<float>(py - y0);
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int xx = std::clamp(x0 + dx, 0, size - 1), yy = std::clamp(y0 + dy, 0, size - 1);
+          kernel.at<float>(yy, xx) += (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+        }
+    }
+    kernel /= cv::sum(kernel)[0];
+    cv::filter2D(img, img, -1, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
+  }
+  // Gain with vignetting, shot + read noise (sigma^2 = 2.0^2 + 0.12 * I), in 8-bit.
+  const int w = img.cols, h = img.rows;
+  const double cx = 0.5 * (w - 1), cy = 0.5 * (h - 1), r2max = cx * cx + cy * cy;
+  cv::Mat noise(1, w * 3, CV_32F);
+  float sigma_of[256];
+  for (int i = 0; i < 256; ++i) sigma_of[i] = static_cast<float>(std::sqrt(4.0 + 0.12 * i));
+  cv::RNG rng(seed);
+  for (int y = 0; y < h; ++y) {
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+    const float* n = noise.ptr<float>(0);
+    uchar* p = img.ptr<uchar>(y);
+    const double dy2 = (y - cy) * (y - cy);
+    for (int x = 0; x < w; ++x) {
+      const float g = static_cast<float>(gain * (1.0 - 0.22 * ((x - cx) * (x - cx) + dy2) / r2max));
+      for (int c = 0; c < 3; ++c) {
+        const float v = p[3 * x + c] * g;
+        const int iv = std::clamp(static_cast<int>(v), 0, 255);
+        p[3 * x + c] = cv::saturate_cast<uchar>(v + sigma_of[iv] * n[3 * x + c]);
+      }
+    }
+  }
+}
+
+}  // namespace dynorb::synth

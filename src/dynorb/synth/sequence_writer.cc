@@ -1,0 +1,101 @@
+#include "dynorb/synth/sequence_writer.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+
+
+#include "dynorb/core/error.h"
+#include "dynorb/io/atomic_file.h"
+#include "dynorb/io/trajectory_io.h"
+#include "dynorb/synth/png_writer.h"
+
+namespace dynorb::synth {
+namespace fs = std::filesystem;
+namespace {
+
+void WritePng(const std::string& path, const cv::Mat& image) {
+  WriteFileAtomically(path, EncodePng(image));
+}
+
+}  // namespace
+
+SequenceWriter::SequenceWriter(std::string dir, bool force) : dir_(std::move(dir)) {
+  std::error_code ec;
+  if (fs::exists(dir_, ec)) {
+    if (!fs::is_directory(dir_, ec)) throw InputError("output path exists and is not a directory: " + dir_);
+    if (!fs::is_empty(dir_, ec)) {
+      if (!force) throw InputError("output directory is not empty: " + dir_ + " (use --force to overwrite)");
+      for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(fs::path(dir_) / sub, ec);
+    }
+  }
+  for (const char* sub : {"rgb", "depth", "masks"}) {
+    fs::create_directories(fs::path(dir_) / sub, ec);
+    if (ec) throw InputError("cannot create output directory " + (fs::path(dir_) / sub).string() + ": " + ec.message());
+  }
+  // Fail early (before any rendering) if the directory is not writable.
+  WriteFileAtomically((fs::path(dir_) / ".write_test").string(), "");
+  fs::remove(fs::path(dir_) / ".write_test", ec);
+}
+
+std::string SequenceWriter::Stamp(double timestamp_s) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.6f", timestamp_s);
+  return buf;
+}
+
+void SequenceWriter::WriteFrame(double rgb_ts, double depth_ts, const cv::Mat& rgb, const cv::Mat& depth_u16,
+                                const cv::Mat& mask) const {
+  const fs::path root(dir_);
+  WritePng((root / "rgb" / (Stamp(rgb_ts) + ".png")).string(), rgb);
+  WritePng((root / "depth" / (Stamp(depth_ts) + ".png")).string(), depth_u16);
+  WritePng((root / "masks" / (Stamp(rgb_ts) + ".png")).string(), mask);
+}
+
+void SequenceWriter::WriteIndex(const std::vector<double>& rgb_ts, const std::vector<double>& depth_ts,
+                                const Trajectory& groundtruth) const {
+  std::ostringstream rgb, depth, masks, assoc;
+  rgb << "# color images\n# file: 'dynorb synth'\n# timestamp filename\n";
+  depth << "# depth maps\n# file: 'dynorb synth'\n# timestamp filename\n";
+  masks << "# moving-object masks (pixel = object id, 0 = static)\n# file: 'dynorb synth'\n# timestamp filename\n";
+  for (size_t i = 0; i < rgb_ts.size(); ++i) {
+    const std::string r = Stamp(rgb_ts[i]), d = Stamp(depth_ts[i]);
+    rgb << r << " rgb/" << r << ".png\n";
+    depth << d << " depth/" << d << ".png\n";
+    masks << r << " masks/" << r << ".png\n";
+    assoc << r << " rgb/" << r << ".png " << d << " depth/" << d << ".png\n";
+  }
+  WriteText("rgb.txt", rgb.str());
+  WriteText("depth.txt", depth.str());
+  WriteText("masks.txt", masks.str());
+  WriteText("associations.txt", assoc.str());
+  WriteTumTrajectory((fs::path(dir_) / "groundtruth.txt").string(), groundtruth);
+}
+
+void SequenceWriter::WriteText(const std::string& name, const std::string& content) const {
+  WriteFileAtomically((fs::path(dir_) / name).string(), content);
+}
+
+std::string SequenceWriter::CameraYaml(const PinholeCamera& c, double fps, double depth_factor) {
+  auto num = [](double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "%.10g", v);
+    std::string text = buf;
+    if (text.find_first_of(".e") == std::string::npos) text += ".0";
+    return text;
+  };
+  std::ostringstream s;
+  s << "%YAML:1.0\n"
+    << "# Camera of a dynorb synthetic sequence (TUM fr3 intrinsics, no distortion).\n"
+    << "Camera.fx: " << num(c.fx) << "\nCamera.fy: " << num(c.fy) << "\nCamera.cx: " << num(c.cx)
+    << "\nCamera.cy: " << num(c.cy) << "\nCamera.k1: " << num(c.k1) << "\nCamera.k2: " << num(c.k2)
+    << "\nCamera.p1: " << num(c.p1) << "\nCamera.p2: " << num(c.p2) << "\nCamera.k3: " << num(c.k3)
+    << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height << "\nCamera.fps: " << num(fps)
+    << "\nCamera.bf: 40.0\nCamera.RGB: 1\nThDepth: 40.0\nDepthMapFactor: " << num(depth_factor)
+    << "\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8"
+    << "\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";
+  return s.str();
+}
+
+}  // namespace dynorb::synth

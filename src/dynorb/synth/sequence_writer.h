@@ -1,0 +1,44 @@
+// SequenceWriter: writes a synthetic sequence in the TUM RGB-D layout:
+//   rgb/<ts>.png (8-bit BGR->RGB PNG), depth/<ts>.png (16-bit, factor 5000, 0 = none),
+//   masks/<rgb ts>.png (8-bit moving-object id, 0 = static), rgb.txt, depth.txt, masks.txt,
+//   associations.txt, groundtruth.txt (world_from_cam at the rgb timestamps), objects.txt,
+//   camera.yaml (ORB-SLAM2 keys), scene.yaml (all generation parameters).
+// Every file is written atomically (io/atomic_file.h). WriteFrame may be called concurrently
+// for different frames; the rest is single-threaded.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "dynorb/core/pinhole_camera.h"
+#include "dynorb/core/trajectory.h"
+
+namespace dynorb::synth {
+
+class SequenceWriter {
+ public:
+  // Creates `dir` (and rgb/, depth/, masks/). Throws InputError if it cannot be created or
+  // written, or if it is not empty and `force` is false. With `force`, old rgb/, depth/, masks/
+  // are removed first.
+  SequenceWriter(std::string dir, bool force);
+
+  void WriteFrame(double rgb_ts, double depth_ts, const cv::Mat& rgb, const cv::Mat& depth_u16,
+                  const cv::Mat& mask) const;
+  // rgb.txt, depth.txt, masks.txt, associations.txt, groundtruth.txt.
+  void WriteIndex(const std::vector<double>& rgb_ts, const std::vector<double>& depth_ts,
+                  const Trajectory& groundtruth) const;
+  void WriteText(const std::string& name, const std::string& content) const;
+
+  static std::string Stamp(double timestamp_s);  // "%.6f"
+  // camera.yaml in the ORB-SLAM2 format dynorb reads.
+  static std::string CameraYaml(const PinholeCamera& camera, double fps, double depth_factor);
+
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+};
+
+}  // namespace dynorb::synth
