@@ -19,8 +19,11 @@
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
 #include "dynorb/system/system.h"
+#include "dynamic_labels.h"
 #include "progress_bar.h"
+#include "run_modes.h"
 #include "run_report.h"
+#include <opencv2/imgcodecs.hpp>
 
 namespace dynorb {
 namespace {
@@ -35,6 +38,8 @@ struct RunCli {
   std::string run_mode = "sequential";
   uint64_t seed = 0;
   std::string frames;
+  std::string models;
+  std::string overlays;
   bool quiet = false;
 };
 
@@ -86,15 +91,39 @@ void RunSlam(const RunCli& cli) {
       throw InputError("no --config given and the dataset has no camera.yaml (use e.g. --config config/tum_fr3.yaml)");
     }
   }
-  const SystemConfig config = LoadSystemConfig(config_path);
+  // One schema: the system keys plus the chosen mode's own section.
+  SystemConfig config;
+  ConfigSchema schema;
+  BindSystemConfig(&config, &schema);
+  std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
+  if (mode) mode->BindConfig(&schema);
+  schema.Load(config_path);
   TumSequence sequence(cli.dataset, config.dataset);
   const auto [first, last] = ParseRange(cli.frames, sequence.size());
   std::error_code ec;
   fs::create_directories(cli.out, ec);
   if (!fs::is_directory(cli.out)) throw InputError("cannot create output folder " + cli.out);
 
+  if (!cli.overlays.empty()) {
+    fs::create_directories(cli.overlays, ec);
+    if (!fs::is_directory(cli.overlays)) throw InputError("cannot create overlay folder " + cli.overlays);
+  }
   const SystemOptions options = MakeSystemOptions(config, cli);
-  System system(options);
+  std::unique_ptr<KeypointFilter> filter;
+  if (mode) {
+    RunModeContext context;
+    context.config = &config;
+    context.sensor = options.sensor;
+    context.dataset = cli.dataset;
+    context.models_dir = cli.models;
+    context.seed = cli.seed;
+    filter = mode->Create(context);
+  }
+  const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(cli.dataset);
+  KeypointLabelStats label_stats;
+  System system(options, std::move(filter));
+  system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
+  system.set_record_overlays(!cli.overlays.empty());
   ProgressBar progress("frames", static_cast<int>(last - first));
   Stopwatch wall;
   for (size_t i = first; i < last; ++i) {
@@ -105,7 +134,14 @@ void RunSlam(const RunCli& cli) {
                        " says " + std::to_string(options.sensor.camera.width) + "x" +
                        std::to_string(options.sensor.camera.height));
     }
-    system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
+    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
+    if (masks) label_stats.Add(record.detected, record.keep, masks->MaskAt(frame.timestamp_s));
+    if (!cli.overlays.empty()) {
+      const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
+      char name[32];
+      std::snprintf(name, sizeof(name), "%06zu.png", i);
+      cv::imwrite((fs::path(cli.overlays) / name).string(), DrawKeypointOverlay(base, record.detected, record.keep));
+    }
     if (!cli.quiet) {
       const int done = static_cast<int>(i - first + 1);
       char hz[64];
@@ -129,11 +165,12 @@ void RunSlam(const RunCli& cli) {
   if (sequence.HasGroundTruth() && trajectory.size() >= 3) {
     ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
   }
-  const nlohmann::json stats = BuildRunStats(system, inputs, ate);
+  nlohmann::json stats = BuildRunStats(system, inputs, ate);
+  if (masks) stats["dynamic_keypoints"] = label_stats.ToJson();
 
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
-  WriteSystemConfig((fs::path(cli.out) / "effective_config.yaml").string(), config);
+  schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
   WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
   std::cout << FormatRunSummary(stats) << "outputs: " << cli.out << "/{trajectory.txt,keyframes.txt,stats.json,effective_config.yaml}\n";
 }
@@ -144,8 +181,11 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->add_option("--dataset", cli->dataset, "Sequence folder (rgb.txt, depth.txt, optional groundtruth.txt)")->required();
   cmd->add_option("--config", cli->config, "Camera/system YAML (ORB-SLAM2 keys accepted); default: DATASET/camera.yaml");
   cmd->add_option("--out", cli->out, "Output folder (created if needed)")->required();
-  cmd->add_option("--mode", cli->mode, "Dynamic-object handling: plain (none; the ORB-SLAM2 baseline)")
-      ->check(CLI::IsMember({"plain"}));
+  cmd->add_option("--mode", cli->mode, "Dynamic-object handling: " + RunModeHelp())
+      ->check(CLI::IsMember(RunModeNames()));
+  cmd->add_option("--models", cli->models, "Detector model folder (semantic modes; default ../shared/models when present)");
+  cmd->add_option("--save-overlays", cli->overlays,
+                  "Write one image per frame: kept keypoints green, removed (dynamic) ones red, plus the mode's evidence");
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")
       ->check(CLI::IsMember({"sequential", "parallel"}));
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");

@@ -25,11 +25,15 @@ struct FilterInput {
   const KeypointSet* keypoints = nullptr;
   // Motion-model prediction of the camera pose change since the previous frame, when tracking.
   std::optional<Rigid3d> predicted_cam_from_previous_cam;
+  // The caller wants FilterOutput::overlay (e.g. `dynorb run --save-overlays`).
+  bool want_overlay = false;
 };
 
 struct FilterOutput {
   std::vector<bool> keep;  // One flag per keypoint: false = dynamic, removed before description.
   cv::Mat dynamic_mask;    // Optional CV_8U mask (255 = dynamic) for overlays and statistics.
+  cv::Mat overlay;         // Optional BGR drawing of the filter's evidence (flow vectors, epipolar
+                           // outliers, boxes), only when FilterInput::want_overlay.
 };
 
 class KeypointFilter {

@@ -78,12 +78,14 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
     input.depth_m = &depth_m;
     input.keypoints = &set;
     input.predicted_cam_from_previous_cam = last_velocity_;
+    input.want_overlay = record_overlays_;
     FilterOutput out = filter_->Filter(input);
     if (out.keep.size() != keep.size()) throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
     record.timing.filter_ms = watch.ElapsedMs();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
+    if (record_overlays_) record.filter_overlay = out.overlay;
   }
 
   watch.Restart();
@@ -93,6 +95,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
 
   Track(&record, std::move(features));
   record.timing.total_ms = total.ElapsedMs();
+  if (!records_.empty()) records_.back().filter_overlay.release();  // Keep only the latest drawing.
   records_.push_back(std::move(record));
   return records_.back();
 }

@@ -58,6 +58,7 @@ struct FrameRecord {
   FrameTiming timing;
   std::vector<bool> keep;      // Filter decision per detected keypoint (empty without a filter).
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
+  cv::Mat filter_overlay;              // The filter's drawing (only when record_overlays).
 };
 
 class System {
@@ -82,6 +83,8 @@ class System {
   size_t NumLandmarks() const;
   const Map& map() const { return map_; }
   void set_record_keypoints(bool on) { record_keypoints_ = on; }
+  // Asks the filter for its overlay drawing each frame (kept in the latest record only).
+  void set_record_overlays(bool on) { record_overlays_ = on; }
 
  private:
   void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features);
@@ -96,6 +99,7 @@ class System {
   std::vector<FrameRecord> records_;
   FrameId next_frame_id_ = 0;
   bool record_keypoints_ = false;
+  bool record_overlays_ = false;
   std::optional<Rigid3d> last_velocity_;  // For the filter's motion prediction.
 
   BlockingQueue<KeyframeId> queue_;

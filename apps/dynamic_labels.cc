@@ -1,0 +1,92 @@
+#include "dynamic_labels.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/stats.h"
+
+namespace dynorb {
+
+std::optional<MaskGroundTruth> MaskGroundTruth::Open(const std::string& dataset) {
+  const std::filesystem::path list = std::filesystem::path(dataset) / "masks.txt";
+  if (!std::filesystem::exists(list)) return std::nullopt;
+  MaskGroundTruth gt;
+  gt.folder_ = dataset;
+  gt.masks_ = ReadImageList(list.string());
+  return gt;
+}
+
+cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
+  auto it = std::lower_bound(masks_.begin(), masks_.end(), timestamp_s,
+                             [](const StampedPath& m, double t) { return m.timestamp_s < t; });
+  const StampedPath* best = nullptr;
+  for (auto c : {it, it == masks_.begin() ? it : it - 1}) {
+    if (c == masks_.end()) continue;
+    if (std::abs(c->timestamp_s - timestamp_s) < 0.005 &&
+        (best == nullptr || std::abs(c->timestamp_s - timestamp_s) < std::abs(best->timestamp_s - timestamp_s))) {
+      best = &*c;
+    }
+  }
+  if (best == nullptr) return cv::Mat();
+  const std::string path = (std::filesystem::path(folder_) / best->path).string();
+  cv::Mat mask = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (mask.empty()) throw InputError("cannot read mask " + path);
+  if (mask.type() != CV_8UC1) throw InputError(path + ": a mask must be an 8-bit single-channel PNG");
+  return mask;
+}
+
+void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
+                             const cv::Mat& mask) {
+  if (mask.empty()) return;
+  long long tp = 0, fp = 0, fn = 0;
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const int x = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.x)), 0, mask.cols - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.y)), 0, mask.rows - 1);
+    const bool truth = mask.at<uint8_t>(y, x) != 0;
+    const bool predicted = !keep.empty() && !keep[i];
+    if (predicted && truth) ++tp;
+    if (predicted && !truth) ++fp;
+    if (!predicted && truth) ++fn;
+    if (!predicted && !truth) ++tn_;
+  }
+  tp_ += tp;
+  fp_ += fp;
+  fn_ += fn;
+  ++frames_;
+  if (tp + fp > 0) frame_precision_.push_back(static_cast<double>(tp) / (tp + fp));
+  if (tp + fn > 0) frame_recall_.push_back(static_cast<double>(tp) / (tp + fn));
+}
+
+nlohmann::json KeypointLabelStats::ToJson() const {
+  auto ratio = [](long long a, long long b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
+  return {{"frames_with_masks", frames_},
+          {"true_positive", tp_},
+          {"false_positive", fp_},
+          {"false_negative", fn_},
+          {"true_negative", tn_},
+          {"precision", ratio(tp_, tp_ + fp_)},
+          {"recall", ratio(tp_, tp_ + fn_)},
+          {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},
+          {"mean_frame_precision", Summarize(frame_precision_).mean},
+          {"mean_frame_recall", Summarize(frame_recall_).mean},
+          {"definition",
+           "positive = keypoint removed as dynamic; truth = keypoint on a pixel of a moving-object mask (id != 0); "
+           "totals over all frames with masks"}};
+}
+
+cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,
+                            const std::vector<bool>& keep) {
+  cv::Mat out = base.clone();
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const bool kept = keep.empty() || keep[i];
+    const cv::Scalar color = kept ? cv::Scalar(0, 200, 0) : cv::Scalar(0, 0, 255);
+    cv::circle(out, keypoints[i].pt, kept ? 2 : 3, color, kept ? 1 : 2, cv::LINE_AA);
+  }
+  return out;
+}
+
+}  // namespace dynorb

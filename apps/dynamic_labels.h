@@ -1,0 +1,47 @@
+// Ground truth of moving objects for `dynorb run`: the per-pixel masks of synthetic sequences
+// (masks.txt: "timestamp masks/<ts>.png", 8-bit object id, 0 = static), the precision/recall of
+// the keypoints a mode labels dynamic, and the overlay images of --save-overlays.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "dynorb/io/association.h"
+
+namespace dynorb {
+
+class MaskGroundTruth {
+ public:
+  // Nothing when the folder has no masks.txt. Throws InputError for a malformed masks.txt.
+  static std::optional<MaskGroundTruth> Open(const std::string& dataset);
+  // The mask whose stamp is within 5 ms of `timestamp_s` (empty Mat if none). Throws InputError
+  // if the listed PNG is missing or not 8-bit single channel.
+  cv::Mat MaskAt(double timestamp_s) const;
+
+ private:
+  std::string folder_;
+  std::vector<StampedPath> masks_;
+};
+
+// Counts over keypoints: positive = labelled dynamic (removed); truth = on a moving-object pixel.
+class KeypointLabelStats {
+ public:
+  // keep: per keypoint, true = kept as static (empty = all kept, e.g. plain mode).
+  void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask);
+  nlohmann::json ToJson() const;
+
+ private:
+  long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0;
+  std::vector<double> frame_precision_, frame_recall_;
+  int frames_ = 0;
+};
+
+// Draws kept keypoints green and removed ones red on `base` (the filter's overlay, or the image).
+cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,
+                            const std::vector<bool>& keep);
+
+}  // namespace dynorb
