@@ -28,6 +28,7 @@ struct TrajectoryPairOptions {
   double scale = 1.0;             // estimate scale (monocular-like when != 1)
   double drop_fraction = 0.02;    // fraction of estimate frames dropped
   double stamp_jitter_s = 0.003;  // estimate stamps differ from ground truth by up to this
+                                  // (capped at a quarter frame interval)
   void Validate() const;          // throws InputError
 };
 
