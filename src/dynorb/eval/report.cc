@@ -107,11 +107,15 @@ std::string FormatReportJson(const EvalResult& r, const ReportInputs& inputs) {
                   {"coverage_window_s", o.coverage_window_s}};
   j["association"] = {{"pairs", r.ate.stats.count},
                       {"unmatched_estimate_poses", r.est_poses - r.ate.stats.count}};
-  j["coverage"] = {{"fraction", r.coverage.fraction},
-                   {"groundtruth_span_s", r.coverage.gt_span_s},
-                   {"covered_s", r.coverage.covered_s},
-                   {"longest_gap_s", r.coverage.longest_gap_s},
-                   {"longest_gap_start_s", r.coverage.longest_gap_start_s}};
+  j["coverage"] = {
+      {"fraction", r.coverage.fraction},
+      {"groundtruth_span_s", r.coverage.gt_span_s},
+      {"covered_s", r.coverage.covered_s},
+      {"longest_gap_s", r.coverage.longest_gap_s},
+      {"longest_gap_start_s", r.coverage.longest_gap_start_s},
+      {"definition", Format("fraction of the ground-truth time span within +-%g s of an "
+                            "associated estimate pose",
+                            o.coverage_window_s)}};
   j["alignment"] = {{"mode", ToString(r.ate.mode)},
                     {"scale", a.scale},
                     {"rotation", rotation},

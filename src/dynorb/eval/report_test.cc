@@ -47,6 +47,7 @@ TEST(Report, JsonMatchesResult) {
   EXPECT_DOUBLE_EQ(j["rpe"]["trans_m"]["rmse"].get<double>(), f.result.rpe.trans_m.rmse);
   EXPECT_DOUBLE_EQ(j["coverage"]["fraction"].get<double>(), f.result.coverage.fraction);
   EXPECT_EQ(j["alignment"]["mode"], "se3");
+  EXPECT_NE(j["coverage"]["definition"].get<std::string>().find("+-0.05 s"), std::string::npos);
   EXPECT_EQ(j["inputs"]["estimate_poses"], f.result.est_poses);
   EXPECT_TRUE(j["warnings"].empty());
 }
