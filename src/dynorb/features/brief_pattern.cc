@@ -32,11 +32,11 @@ int SampleGaussianPixel(SplitMix64& rng, double sigma) {
   return static_cast<int>(std::lround(unit * sigma));
 }
 
-int SampleUniformPixel(SplitMix64& rng) {
-  return static_cast<int>((rng.Next() >> 32) % (2 * kBriefMaxRadius + 1)) - kBriefMaxRadius;
+int SampleUniformPixel(SplitMix64& rng, int max_radius) {
+  return static_cast<int>((rng.Next() >> 32) % (2 * max_radius + 1)) - max_radius;
 }
 
-// Learned by brief_learning.h from GenerateBriefCandidates(kBriefCandidateSeed, 65536) on the
+// Learned by brief_learning.h from GenerateBriefCandidates(kBriefCandidateSeed, 16384) on the
 // training images of docs/features.md. Regenerate with the DISABLED_ test of
 // brief_learning_test.cc.
 constexpr BriefPair kLearnedPattern[kBriefBits] = {
@@ -45,14 +45,14 @@ constexpr BriefPair kLearnedPattern[kBriefBits] = {
 
 }  // namespace
 
-std::vector<BriefPair> GenerateBriefCandidates(uint64_t seed, int count) {
+std::vector<BriefPair> GenerateBriefCandidates(uint64_t seed, int count, int max_radius) {
   const double sigma = 31.0 / 5.0;  // BRIEF "G II": sigma² = S² / 25 for the patch size S = 31
   SplitMix64 rng(seed);
   auto sample_point = [&](bool gaussian, int* x, int* y) {
     do {
-      *x = gaussian ? SampleGaussianPixel(rng, sigma) : SampleUniformPixel(rng);
-      *y = gaussian ? SampleGaussianPixel(rng, sigma) : SampleUniformPixel(rng);
-    } while (*x * *x + *y * *y > kBriefMaxRadius * kBriefMaxRadius);
+      *x = gaussian ? SampleGaussianPixel(rng, sigma) : SampleUniformPixel(rng, max_radius);
+      *y = gaussian ? SampleGaussianPixel(rng, sigma) : SampleUniformPixel(rng, max_radius);
+    } while (*x * *x + *y * *y > max_radius * max_radius);
   };
   std::vector<BriefPair> pairs;
   pairs.reserve(count);

@@ -43,6 +43,7 @@ const std::array<BriefPair, kBriefBits>& BriefPattern();
 //  - odd indices: both points uniform in the disc (the ORB paper's candidates span the whole
 //  patch).
 // Randomness is SplitMix64 from `seed` in integer arithmetic: identical on every platform.
-std::vector<BriefPair> GenerateBriefCandidates(uint64_t seed, int count);
+std::vector<BriefPair> GenerateBriefCandidates(uint64_t seed, int count,
+                                               int max_radius = kBriefMaxRadius);
 
 }  // namespace dynorb
