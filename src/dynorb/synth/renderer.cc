@@ -61,7 +61,9 @@ void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fr
     const double d = normal.dot(o);
     if (std::abs(d) < 1e-9) continue;  // seen edge-on
     double min_x = 1e30, max_x = -1e30, min_y = 1e30, max_y = -1e30;
+    p.near_z = 1e30;
     for (int c = 0; c < n; ++c) {
+      p.near_z = std::min(p.near_z, clipped[c].z());
       const Eigen::Vector2d px(fx * clipped[c].x() / clipped[c].z() + cx, fy * clipped[c].y() / clipped[c].z() + cy);
       p.polygon.push_back(px);
       min_x = std::min(min_x, px.x()); max_x = std::max(max_x, px.x());
@@ -86,14 +88,20 @@ void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fr
 }
 
 void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
-                         cv::Mat* inv_depth, cv::Mat* quad_index) const {
+                         cv::Mat* inv_depth, cv::Mat* quad_index) {
   const int scale = inv_depth->cols / camera_.width;
   const int w = camera_.width * scale, h = camera_.height * scale;
   inv_depth->setTo(0.0f);
   quad_index->setTo(-1);
-  for (size_t qi = 0; qi < quads.size(); ++qi) {
+  const int blocks = (w + kBlock - 1) / kBlock;
+  block_far_.assign(static_cast<size_t>(h) * blocks, 0.0f);
+  order_.clear();
+  for (size_t qi = 0; qi < quads.size(); ++qi)
+    if (prepared[qi].visible) order_.push_back(static_cast<int>(qi));
+  std::stable_sort(order_.begin(), order_.end(),
+                   [&prepared](int a, int b) { return prepared[a].near_z < prepared[b].near_z; });
+  for (const int qi : order_) {
     const Prepared& p = prepared[qi];
-    if (!p.visible) continue;
     const Texture* sprite = quads[qi].texture->IsSprite() ? quads[qi].texture : nullptr;
     double min_y = 1e30, max_y = -1e30;
     for (const auto& v : p.polygon) { min_y = std::min(min_y, v.y()); max_y = std::max(max_y, v.y()); }
@@ -126,19 +134,34 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         const float a = static_cast<float>(p.a);
         const float row_c = static_cast<float>(p.b * y + p.c);
         const int index = static_cast<int>(qi);
-        for (int x = x_begin; x < x_end; ++x) {
-          const float iz = a * x + row_c;
-          const bool nearer = iz > zrow[x];  // branch-free so that the loop vectorises
-          zrow[x] = nearer ? iz : zrow[x];
-          irow[x] = nearer ? index : irow[x];
+        float* block_far = &block_far_[static_cast<size_t>(y) * blocks];
+        // Per block of kBlock pixels: skip it when the quad is behind everything drawn there
+        // (quads come nearest first, so hidden walls cost little).
+        for (int b = x_begin / kBlock; b * kBlock < x_end; ++b) {
+          const int xs = std::max(x_begin, b * kBlock), xe = std::min(x_end, (b + 1) * kBlock);
+          if (std::max(a * xs + row_c, a * (xe - 1) + row_c) <= block_far[b]) continue;
+          for (int x = xs; x < xe; ++x) {
+            const float iz = a * x + row_c;
+            const bool nearer = iz > zrow[x];  // branch-free so that the loop vectorises
+            zrow[x] = nearer ? iz : zrow[x];
+            irow[x] = nearer ? index : irow[x];
+          }
+          const int bs = b * kBlock, be = std::min(w, bs + kBlock);
+          float far = zrow[bs];
+          for (int x = bs + 1; x < be; ++x) far = std::min(far, zrow[x]);
+          block_far[b] = far;
         }
         continue;
       }
-      for (int x = x_begin; x < x_end; ++x) {
-        const double tw = t(2, 0) * x + t(2, 1) * y + t(2, 2);
-        const double tx = (t(0, 0) * x + t(0, 1) * y + t(0, 2)) / tw;
-        const double ty = (t(1, 0) * x + t(1, 1) * y + t(1, 2)) / tw;
-        if (tx < -0.5 || ty < -0.5 || tx > sprite->width() - 0.5 || ty > sprite->height() - 0.5) continue;
+      // Sprites: alpha test and body bulge from the texture (perspective-correct lookup).
+      const float max_tx = sprite->width() - 0.5f, max_ty = sprite->height() - 0.5f;
+      double nx = t(0, 0) * x_begin + t(0, 1) * y + t(0, 2);
+      double ny = t(1, 0) * x_begin + t(1, 1) * y + t(1, 2);
+      double nw = t(2, 0) * x_begin + t(2, 1) * y + t(2, 2);
+      for (int x = x_begin; x < x_end; ++x, nx += t(0, 0), ny += t(1, 0), nw += t(2, 0)) {
+        const float inv_w = static_cast<float>(1.0 / nw);
+        const float tx = static_cast<float>(nx) * inv_w, ty = static_cast<float>(ny) * inv_w;
+        if (tx < -0.5f || ty < -0.5f || tx > max_tx || ty > max_ty) continue;
         const cv::Vec2f ab = SampleBilinear(sprite->alpha_bulge, tx, ty);
         if (ab[0] < 0.5f) continue;
         const double z = 1.0 / (p.a * x + p.b * y + p.c) - ab[1] * p.width_m;

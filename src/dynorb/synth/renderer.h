@@ -58,19 +58,23 @@ class Renderer {
     Eigen::Matrix3d img_from_tex;          // level-0 texels -> pixels at this scale
     Eigen::Matrix3d tex_from_img;
     double width_m = 0;                    // |axis_u|, for the sprite bulge
+    double near_z = 0;                     // nearest clipped corner (drawing order)
   };
+  static constexpr int kBlock = 16;  // pixels per block of the occlusion bound
 
   void Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
                std::vector<Prepared>* prepared) const;
   // Z-buffers all quads at this scale: inverse depth and winning quad index (-1 = none).
   void Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared, cv::Mat* inv_depth,
-                 cv::Mat* quad_index) const;
+                 cv::Mat* quad_index);
   void Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
              const cv::Mat& quad_index, cv::Mat* colour);
 
   PinholeCamera camera_;
   int supersample_;
   std::vector<Prepared> prepared_full_, prepared_super_;
+  std::vector<int> order_;         // visible quads, nearest first
+  std::vector<float> block_far_;   // per row and block: smallest inverse depth drawn (0 = none)
   cv::Mat inv_depth_full_, index_full_, inv_depth_super_, index_super_, colour_super_;
 };
 

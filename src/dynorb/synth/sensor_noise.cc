@@ -33,27 +33,38 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
   rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
   cv::resize(coarse, correlated, depth_m.size(), 0, 0, cv::INTER_LINEAR);
   rng.fill(fine, cv::RNG::NORMAL, 0.0, 0.5);
-  // Invalid pixels: discontinuities (with a random 0-1 px margin) and the projector's shadow.
+  // Invalid pixels: depth discontinuities and the projector's shadow left of foreground edges.
+  cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8U);
   cv::Mat invalid = cv::Mat::zeros(depth_m.size(), CV_8U);
   for (int y = 0; y < h; ++y) {
     const float* d = depth_m.ptr<float>(y);
     const float* up = depth_m.ptr<float>(std::max(0, y - 1));
+    uchar* e = edges.ptr<uchar>(y);
     uchar* inv = invalid.ptr<uchar>(y);
     for (int x = 1; x < w; ++x) {
       const float a = d[x - 1], b = d[x];
-      const float jump_h = std::abs(a - b), jump_v = std::abs(up[x] - b);
       const float near = std::min(a, b);
-      if (jump_h > 0.04f * near * near + 0.03f || jump_v > 0.04f * near * near + 0.03f) {
-        inv[x] = inv[x - 1] = 1;
-        if (rng.uniform(0.0, 1.0) < 0.5 && x + 1 < w) inv[x + 1] = 1;
-        if (rng.uniform(0.0, 1.0) < 0.5 && x >= 2) inv[x - 2] = 1;
-      }
-      // Foreground starting at x (nearer than its left neighbour): shadow to its left.
+      const float limit = 0.04f * near * near + 0.03f;
+      if (std::abs(a - b) > limit || std::abs(up[x] - b) > limit) e[x] = 1;
       if (b > 0.0f && a > b + 0.1f) {
         const double far = a > 0.0f ? a : 10.0;
         const int width = static_cast<int>(0.5 * kFocalBaseline * (1.0 / b - 1.0 / far) + rng.uniform(0.0, 1.0));
         for (int k = 1; k <= width && x - k >= 0; ++k) inv[x - k] = 1;
       }
+    }
+  }
+  // Ragged holes along the edges: the hole radius (0.5-3 px) follows a smooth random field.
+  cv::Mat distance;
+  cv::distanceTransform(edges == 0, distance, cv::DIST_L2, 3);
+  // The right border has no registered depth (as in TUM's Kinect frames).
+  const int right_band = 6 + static_cast<int>(rng.uniform(0, 4));
+  for (int y = 0; y < h; ++y) {
+    const float* dist = distance.ptr<float>(y);
+    const float* c = correlated.ptr<float>(y);
+    uchar* inv = invalid.ptr<uchar>(y);
+    for (int x = 0; x < w; ++x) {
+      if (dist[x] < 0.8f + 1.2f * std::max(0.0f, c[x] + 0.5f)) inv[x] = 1;
+      if (x >= w - right_band) inv[x] = 1;
     }
   }
   const double q = 1.0 / 8.0;  // disparity quantisation
@@ -67,10 +78,9 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
       const double z = d[x];
       o[x] = 0;
       if (z <= 0.0 || inv[x]) continue;
-      // Range limit with a soft edge; random speckle dropouts.
-      const double edge = options.max_depth_m - 0.3;
-      if (z > options.max_depth_m || (z > edge && rng.uniform(0.0, 1.0) < (z - edge) / 0.3)) continue;
-      if (rng.uniform(0.0, 1.0) < 0.002) continue;
+      // Range limit with a ragged edge (the smooth field again); rare speckle dropouts.
+      if (z > options.max_depth_m - 0.25 * std::max(0.0f, c[x])) continue;
+      if (f[x] > 1.45f) continue;  // ~0.2 % of the pixels
       const double sigma = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4);
       const double noisy = z + sigma * (c[x] + f[x]);
       const double disparity = std::round(kFocalBaseline / noisy / q) * q;
@@ -85,6 +95,8 @@ void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, co
                      uint64_t seed) {
   if (!options.noise) return;
   cv::Mat& img = *rgb;
+  // The Kinect's RGB optics and demosaicing are soft.
+  cv::GaussianBlur(img, img, cv::Size(3, 3), 0.5);
   // Motion blur: a line kernel along the image motion.
   const double length = options.exposure_fraction * std::hypot(motion_px.x, motion_px.y);
   if (length > 0.7) {

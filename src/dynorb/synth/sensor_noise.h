@@ -3,9 +3,10 @@
 // Depth (Kinect v1 / TUM fr3): axial noise sigma(z) = 0.0012 + 0.0019 (z - 0.4)^2 m (Nguyen,
 // Izadi, Lovell, "Modeling Kinect sensor noise", 3DIMPVT 2012), spatially correlated over a few
 // pixels (block matching); disparity quantised to 1/8 px with focal * baseline = 580 * 0.075;
-// no depth beyond `max_depth_m`, along depth discontinuities, in the projector's shadow left of
-// foreground edges, and at a few random speckles; stored as uint16 with factor 5000.
-// RGB: motion blur along the image motion (exposure ~ 40 % of the frame interval), slight
+// no depth beyond `max_depth_m` (ragged), in ragged bands along depth discontinuities, in the
+// projector's shadow left of foreground edges, in a band at the right border, and at a few random
+// speckles; stored as uint16 with factor 5000.
+// RGB: slight optical softness, motion blur along the image motion (exposure ~ 40 % of the frame interval), slight
 // vignetting, an auto-exposure gain, and shot + read noise.
 // All random draws come from a generator seeded per frame: results depend only on the inputs.
 // Pure functions; thread-safe.
