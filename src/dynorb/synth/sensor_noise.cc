@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -9,6 +10,32 @@ namespace dynorb::synth {
 namespace {
 
 constexpr double kFocalBaseline = 580.0 * 0.075;  // Kinect v1 IR focal length (px) * baseline (m)
+
+// Fast standard-normal samples: a fixed table of 65536 normal variates (drawn once from a
+// constant seed) indexed by a seeded xorshift64* generator; ~10x faster than cv::RNG's normals.
+class FastNormal {
+ public:
+  explicit FastNormal(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ULL + 0x2545F4914F6CDD1DULL) {
+    if (state_ == 0) state_ = 1;
+  }
+  float operator()() {
+    state_ ^= state_ >> 12;
+    state_ ^= state_ << 25;
+    state_ ^= state_ >> 27;
+    return Table()[(state_ * 0x2545F4914F6CDD1DULL) >> 48];
+  }
+
+ private:
+  static const float* Table() {
+    static const std::vector<float> table = [] {
+      cv::Mat values(1, 65536, CV_32F);
+      cv::RNG(20240601).fill(values, cv::RNG::NORMAL, 0.0, 1.0);
+      return std::vector<float>(values.begin<float>(), values.end<float>());
+    }();
+    return table.data();
+  }
+  uint64_t state_;
+};
 
 }  // namespace
 
@@ -32,7 +59,8 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
   cv::Mat coarse(h / 4 + 1, w / 4 + 1, CV_32F), correlated, fine(depth_m.size(), CV_32F);
   rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
   cv::resize(coarse, correlated, depth_m.size(), 0, 0, cv::INTER_LINEAR);
-  rng.fill(fine, cv::RNG::NORMAL, 0.0, 0.5);
+  FastNormal normal(seed);
+  for (auto it = fine.begin<float>(); it != fine.end<float>(); ++it) *it = 0.5f * normal();
   // Invalid pixels: depth discontinuities and the projector's shadow left of foreground edges.
   cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8U);
   cv::Mat invalid = cv::Mat::zeros(depth_m.size(), CV_8U);
@@ -121,13 +149,10 @@ void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, co
   // Gain with vignetting, shot + read noise (sigma^2 = 2.0^2 + 0.12 * I), in 8-bit.
   const int w = img.cols, h = img.rows;
   const double cx = 0.5 * (w - 1), cy = 0.5 * (h - 1), r2max = cx * cx + cy * cy;
-  cv::Mat noise(1, w * 3, CV_32F);
   float sigma_of[256];
   for (int i = 0; i < 256; ++i) sigma_of[i] = static_cast<float>(std::sqrt(4.0 + 0.12 * i));
-  cv::RNG rng(seed);
+  FastNormal normal(seed);
   for (int y = 0; y < h; ++y) {
-    rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
-    const float* n = noise.ptr<float>(0);
     uchar* p = img.ptr<uchar>(y);
     const double dy2 = (y - cy) * (y - cy);
     for (int x = 0; x < w; ++x) {
@@ -135,7 +160,7 @@ void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, co
       for (int c = 0; c < 3; ++c) {
         const float v = p[3 * x + c] * g;
         const int iv = std::clamp(static_cast<int>(v), 0, 255);
-        p[3 * x + c] = cv::saturate_cast<uchar>(v + sigma_of[iv] * n[3 * x + c]);
+        p[3 * x + c] = cv::saturate_cast<uchar>(v + sigma_of[iv] * normal());
       }
     }
   }
