@@ -243,9 +243,9 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
       const float max_x = img.cols - 1.002f, max_y = img.rows - 1.002f;
       double nx = h[0] * x + h[1] * y + h[2], ny = h[3] * x + h[4] * y + h[5], nw = h[6] * x + h[7] * y + h[8];
       for (; x < end; ++x) {
-        const double inv_w = 1.0 / nw;
-        const float tx = std::clamp(static_cast<float>(nx * inv_w), 0.0f, max_x);
-        const float ty = std::clamp(static_cast<float>(ny * inv_w), 0.0f, max_y);
+        const float inv_w = 1.0f / static_cast<float>(nw);
+        const float tx = std::clamp(static_cast<float>(nx) * inv_w, 0.0f, max_x);
+        const float ty = std::clamp(static_cast<float>(ny) * inv_w, 0.0f, max_y);
         nx += h[0];
         ny += h[3];
         nw += h[6];

@@ -69,6 +69,9 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
   preset_ = *FindPreset(options_.preset);
   sensor_.noise = options_.noise;
 
+  // Cut-outs first: a bad people directory fails before the scene is built.
+  const auto cutouts = options_.people_dir.empty() ? std::vector<std::pair<std::string, cv::Mat>>{}
+                                                   : LoadCutouts(options_.people_dir);
   const bool have_textures = !options_.texture_dir.empty() && fs::is_directory(options_.texture_dir);
   if (!have_textures) warnings_.push_back("texture directory " + options_.texture_dir + " not found: procedural textures only");
   PhotoLibrary photos(have_textures ? options_.texture_dir : "", options_.texture_dir_explicit);
@@ -104,7 +107,6 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
   const int people = options_.num_people > 0 ? options_.num_people : 2;
   std::vector<PersonLook> looks(people);
   if (!options_.people_dir.empty()) {
-    const auto cutouts = LoadCutouts(options_.people_dir);
     std::vector<size_t> order(cutouts.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     cv::RNG rng(Mix(options_.seed, 11));
