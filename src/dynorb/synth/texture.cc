@@ -23,14 +23,30 @@ Texture MakeSprite(const cv::Mat& bgra, double depth_ratio) {
   CV_Assert(bgra.type() == CV_8UC4 && !bgra.empty());
   cv::Mat bgr;
   cv::cvtColor(bgra, bgr, cv::COLOR_BGRA2BGR);
-  // Bleed colours of opaque texels into transparent ones so bilinear filtering at the
-  // silhouette does not pull in the (arbitrary) colour of transparent texels.
+  // Replace the colours of partly transparent texels (feathered cut-out edges still carry the
+  // photo's background, e.g. grass) by those of nearby fully opaque texels, so neither the
+  // alpha-tested silhouette nor bilinear filtering shows a coloured halo.
   cv::Mat alpha;
   cv::extractChannel(bgra, alpha, 3);
-  cv::Mat opaque = alpha > 127;
-  cv::Mat dilated;
-  cv::dilate(bgr, dilated, cv::Mat(), cv::Point(-1, -1), 2);
-  dilated.copyTo(bgr, ~opaque);
+  cv::Mat opaque = alpha > 235;
+  cv::Mat filled = bgr.clone();
+  filled.setTo(cv::Scalar(0, 0, 0), ~opaque);
+  cv::Mat weight;
+  opaque.convertTo(weight, CV_32F, 1.0 / 255.0);
+  cv::Mat colour_sum, weight_sum;
+  filled.convertTo(colour_sum, CV_32FC3);
+  for (int i = 0; i < 4; ++i) {  // grow the opaque colours outwards by ~4 texels
+    cv::Mat blurred_colour, blurred_weight;
+    cv::blur(colour_sum, blurred_colour, cv::Size(3, 3));
+    cv::blur(weight, blurred_weight, cv::Size(3, 3));
+    colour_sum = blurred_colour;
+    weight = blurred_weight;
+    weight_sum = weight;
+  }
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x)
+      if (!opaque.at<uchar>(y, x) && weight_sum.at<float>(y, x) > 1e-4f)
+        bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(colour_sum.at<cv::Vec3f>(y, x) / weight_sum.at<float>(y, x));
   cv::Mat smooth;
   cv::blur(bgr, smooth, cv::Size(3, 3));
   bgr.copyTo(smooth, opaque);
