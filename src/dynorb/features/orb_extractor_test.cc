@@ -6,6 +6,7 @@
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <set>
+#include <thread>
 
 #include "dynorb/core/error.h"
 #include "dynorb/features/brief_pattern.h"
@@ -215,6 +216,21 @@ TEST(OrbExtractor, DeterministicAndIndependentOfTheCallersBuffer) {
     EXPECT_EQ(a.keypoints[i].response, set.keypoints[i].response);
   }
   EXPECT_EQ(cv::norm(a.descriptors, b, cv::NORM_HAMMING), 0.0);
+}
+
+TEST(OrbExtractor, ConcurrentCallsOnOneExtractorMatchSerial) {
+  const OrbExtractor extractor;
+  const cv::Mat images[2] = {MakeSyntheticTexture(kVga, 7), MakeSyntheticTexture(kVga, 8)};
+  OrbFeatures serial[2], parallel[2];
+  for (int i = 0; i < 2; ++i) serial[i] = extractor.DetectAndDescribe(images[i]);
+  std::thread t0([&] { parallel[0] = extractor.DetectAndDescribe(images[0]); });
+  std::thread t1([&] { parallel[1] = extractor.DetectAndDescribe(images[1]); });
+  t0.join();
+  t1.join();
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_EQ(serial[i].keypoints.size(), parallel[i].keypoints.size());
+    EXPECT_EQ(cv::norm(serial[i].descriptors, parallel[i].descriptors, cv::NORM_HAMMING), 0.0);
+  }
 }
 
 TEST(OrbExtractor, DescriptorBitsAreBalancedAndDistinct) {
