@@ -94,7 +94,8 @@ PhotoLibrary::PhotoLibrary(const std::string& dir, bool strict) {
   cv::RNG rng(4711);
   for (const std::string& name : OfficePhotoNames()) {
     cv::Mat img;
-    if (!dir.empty()) img = cv::imread((std::filesystem::path(dir) / name).string(), cv::IMREAD_COLOR);
+    const std::filesystem::path path = std::filesystem::path(dir) / name;
+    if (!dir.empty() && std::filesystem::is_regular_file(path)) img = cv::imread(path.string(), cv::IMREAD_COLOR);
     if (img.empty()) {
       if (strict) throw InputError("texture file missing or unreadable: " + (std::filesystem::path(dir) / name).string());
       missing_.push_back(name);

@@ -21,15 +21,20 @@ void WritePng(const std::string& path, const cv::Mat& image) {
 
 }  // namespace
 
-SequenceWriter::SequenceWriter(std::string dir, bool force) : dir_(std::move(dir)) {
+void SequenceWriter::CheckTarget(const std::string& dir, bool force) {
   std::error_code ec;
-  if (fs::exists(dir_, ec)) {
-    if (!fs::is_directory(dir_, ec)) throw InputError("output path exists and is not a directory: " + dir_);
-    if (!fs::is_empty(dir_, ec)) {
-      if (!force) throw InputError("output directory is not empty: " + dir_ + " (use --force to overwrite)");
-      for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(fs::path(dir_) / sub, ec);
-    }
-  }
+  if (dir.empty()) throw InputError("no output directory given");
+  if (!fs::exists(dir, ec)) return;
+  if (!fs::is_directory(dir, ec)) throw InputError("output path exists and is not a directory: " + dir);
+  if (!force && !fs::is_empty(dir, ec))
+    throw InputError("output directory is not empty: " + dir + " (use --force to overwrite)");
+}
+
+SequenceWriter::SequenceWriter(std::string dir, bool force) : dir_(std::move(dir)) {
+  CheckTarget(dir_, force);
+  std::error_code ec;
+  if (force)
+    for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(fs::path(dir_) / sub, ec);
   for (const char* sub : {"rgb", "depth", "masks"}) {
     fs::create_directories(fs::path(dir_) / sub, ec);
     if (ec) throw InputError("cannot create output directory " + (fs::path(dir_) / sub).string() + ": " + ec.message());

@@ -23,6 +23,9 @@ class SequenceWriter {
   // written, or if it is not empty and `force` is false. With `force`, old rgb/, depth/, masks/
   // are removed first.
   SequenceWriter(std::string dir, bool force);
+  // The checks of the constructor that need no writing (exists as a file, not empty): run them
+  // before expensive work so that bad input fails early and leaves nothing behind.
+  static void CheckTarget(const std::string& dir, bool force);
 
   void WriteFrame(double rgb_ts, double depth_ts, const cv::Mat& rgb, const cv::Mat& depth_u16,
                   const cv::Mat& mask) const;

@@ -224,6 +224,11 @@ TEST(Synthesize, RejectsBadInputWithAClearError) {
   bad = o;
   bad.out_dir = "/proc/dynorb_synth_test/out";
   expect_error(bad, "cannot create output directory");
+  bad = o;
+  bad.texture_dir = fs::temp_directory_path().string();  // exists, but has no photographs
+  bad.texture_dir_explicit = true;
+  expect_error(bad, "texture file missing");
+  EXPECT_FALSE(fs::exists(dir)) << "a failed run must not leave an output directory behind";
   fs::create_directories(dir);
   std::ofstream(dir / "keep.txt") << "x";
   expect_error(o, "not empty");

@@ -192,9 +192,9 @@ std::string SequenceSynth::SceneYaml() const {
 SynthReport Synthesize(const SynthOptions& options, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   options.Validate();
-  if (options.out_dir.empty()) throw InputError("no output directory given");
-  SequenceWriter writer(options.out_dir, options.force);  // bad output directories fail first
-  SequenceSynth synth(options);
+  SequenceWriter::CheckTarget(options.out_dir, options.force);
+  SequenceSynth synth(options);  // bad input fails here, before anything is written
+  SequenceWriter writer(options.out_dir, options.force);
   const int n = synth.num_frames();
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, std::max(1, n));
