@@ -280,7 +280,7 @@ void BuildOffice(uint64_t seed, const PhotoLibrary& photos, Office* office) {
   office->look_at = V(2.8, 4.4, 0.85);
   office->walk_x0 = 0.7;
   office->walk_x1 = 5.3;
-  office->walk_y0 = 1.9;
+  office->walk_y0 = 1.75;
   office->walk_y1 = 3.2;
 }
 
