@@ -54,7 +54,8 @@ void RunEval(const EvalCliOptions& cli) {
   if (!cli.json_path.empty()) json_file = std::make_unique<AtomicFile>(cli.json_path);
   if (!cli.plot_path.empty()) plot_file = std::make_unique<AtomicFile>(cli.plot_path);
 
-  const Trajectory gt = ReadTumTrajectory(cli.gt_path);
+  // Ground truth as TUM publishes it (fr3/walking_static repeats a stamp: the later pose wins).
+  const Trajectory gt = ReadTumGroundTruth(cli.gt_path);
   const Trajectory est = ReadTumTrajectory(cli.est_path);
   const EvalResult result = EvaluateTrajectories(gt, est, options);
   const ReportInputs inputs{cli.gt_path, cli.est_path};

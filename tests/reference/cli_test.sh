@@ -58,6 +58,12 @@ err=$("$DYNORB" eval --gt "$G" --est "$E" --json "$DIR/no/such/dir/r.json" 2>&1 
 awk 'NR < 100 || NR > 160' "$E" >"$DIR/gappy.txt"
 "$DYNORB" eval --gt "$G" --est "$DIR/gappy.txt" | grep -q "^warning: coverage" || fail "coverage warning"
 
+# The real fr3/walking_static ground truth repeats a stamp; --gt accepts it as TUM's tools do.
+REAL_GT="$(dirname "$0")/../../../shared/data/tum/rgbd_dataset_freiburg3_walking_static/groundtruth.txt"
+if [[ -f "$REAL_GT" ]]; then
+  "$DYNORB" eval --gt "$REAL_GT" --est "$REAL_GT" >/dev/null 2>&1 || fail "real walking_static ground truth rejected"
+fi
+
 if ((failures)); then
   echo "$failures check(s) failed"
   exit 1

@@ -1,0 +1,166 @@
+#include "run_pipeline.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/stats.h"
+#include "dynorb/core/timer.h"
+#include "dynorb/eval/evaluate.h"
+#include "dynorb/eval/report.h"
+#include "dynorb/io/atomic_file.h"
+#include "dynorb/io/config.h"
+#include "dynorb/io/trajectory_io.h"
+#include "dynorb/io/tum_sequence.h"
+#include "dynorb/system/system.h"
+#include "dynamic_labels.h"
+#include "progress_bar.h"
+#include "run_modes.h"
+#include "run_report.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// "A:B" (either side may be empty) -> [first, last) clamped to size.
+std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
+  if (text.empty()) return {0, size};
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) throw InputError("--frames expects A:B (e.g. 0:300 or 100:), got '" + text + "'");
+  auto parse = [&](const std::string& s, size_t fallback) -> size_t {
+    if (s.empty()) return fallback;
+    size_t pos = 0;
+    long long v = -1;
+    try {
+      v = std::stoll(s, &pos);
+    } catch (const std::exception&) {
+      pos = 0;
+    }
+    if (pos != s.size() || v < 0) throw InputError("--frames: not a frame index: '" + s + "'");
+    return static_cast<size_t>(v);
+  };
+  const size_t first = parse(text.substr(0, colon), 0);
+  const size_t last = std::min(parse(text.substr(colon + 1), size), size);
+  if (first >= last) throw InputError("--frames " + text + " selects no frame of a " + std::to_string(size) + "-frame sequence");
+  return {first, last};
+}
+
+SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cli) {
+  SystemOptions options;
+  options.sensor.camera = config.camera.camera;
+  options.sensor.bf = config.camera.bf;
+  options.sensor.th_depth_m = config.camera.close_depth_threshold_m();
+  options.orb.n_features = config.orb.n_features;
+  options.orb.scale_factor = config.orb.scale_factor;
+  options.orb.n_levels = config.orb.n_levels;
+  options.orb.ini_th_fast = config.orb.ini_th_fast;
+  options.orb.min_th_fast = config.orb.min_th_fast;
+  options.tracker.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
+  options.tracker.seed = cli.seed;
+  options.run_mode = cli.run_mode == "parallel" ? RunMode::kParallel : RunMode::kSequential;
+  return options;
+}
+
+}  // namespace
+
+nlohmann::json RunPipeline(const RunRequest& cli) {
+  if (!fs::is_directory(cli.dataset)) throw InputError("dataset folder not found: " + cli.dataset);
+  std::string config_path = cli.config;
+  if (config_path.empty()) {
+    config_path = (fs::path(cli.dataset) / "camera.yaml").string();
+    if (!fs::exists(config_path)) {
+      throw InputError("no --config given and the dataset has no camera.yaml (use e.g. --config config/tum_fr3.yaml)");
+    }
+  }
+  // One schema: the system keys plus the chosen mode's own section.
+  SystemConfig config;
+  ConfigSchema schema;
+  BindSystemConfig(&config, &schema);
+  std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
+  if (mode) mode->BindConfig(&schema);
+  schema.Load(config_path);
+  TumSequence sequence(cli.dataset, config.dataset);
+  const auto [first, last] = ParseRange(cli.frames, sequence.size());
+  std::error_code ec;
+  fs::create_directories(cli.out, ec);
+  if (!fs::is_directory(cli.out)) throw InputError("cannot create output folder " + cli.out);
+
+  if (!cli.overlays.empty()) {
+    fs::create_directories(cli.overlays, ec);
+    if (!fs::is_directory(cli.overlays)) throw InputError("cannot create overlay folder " + cli.overlays);
+  }
+  const SystemOptions options = MakeSystemOptions(config, cli);
+  std::unique_ptr<KeypointFilter> filter;
+  if (mode) {
+    RunModeContext context;
+    context.config = &config;
+    context.sensor = options.sensor;
+    context.dataset = cli.dataset;
+    context.models_dir = cli.models;
+    context.seed = cli.seed;
+    filter = mode->Create(context);
+  }
+  const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(cli.dataset);
+  KeypointLabelStats label_stats;
+  System system(options, std::move(filter));
+  system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
+  system.set_record_overlays(!cli.overlays.empty());
+  ProgressBar progress("frames", static_cast<int>(last - first));
+  Stopwatch wall;
+  for (size_t i = first; i < last; ++i) {
+    const RgbdFrame frame = sequence.Frame(i);
+    if (frame.rgb.cols != options.sensor.camera.width || frame.rgb.rows != options.sensor.camera.height) {
+      throw InputError(sequence.ResolvePath(sequence.entries()[i].rgb_path) + ": image is " +
+                       std::to_string(frame.rgb.cols) + "x" + std::to_string(frame.rgb.rows) + " but " + config_path +
+                       " says " + std::to_string(options.sensor.camera.width) + "x" +
+                       std::to_string(options.sensor.camera.height));
+    }
+    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
+    if (masks) label_stats.Add(record.detected, record.keep, masks->MaskAt(frame.timestamp_s));
+    if (!cli.overlays.empty()) {
+      const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
+      char name[32];
+      std::snprintf(name, sizeof(name), "%06zu.png", i);
+      cv::imwrite((fs::path(cli.overlays) / name).string(), DrawKeypointOverlay(base, record.detected, record.keep));
+    }
+    if (!cli.quiet) {
+      const int done = static_cast<int>(i - first + 1);
+      char hz[64];
+      std::snprintf(hz, sizeof(hz), "%.1f Hz, %s", done / std::max(1e-9, wall.ElapsedMs() / 1000.0),
+                    ToString(system.records().back().state));
+      progress.Update(done, hz);
+    }
+  }
+  system.Finish();
+
+  const Trajectory trajectory = system.FrameTrajectory();
+  RunSummaryInputs inputs;
+  inputs.dataset = cli.dataset;
+  inputs.config = config_path;
+  inputs.mode = cli.mode;
+  inputs.run_mode = cli.run_mode;
+  inputs.seed = cli.seed;
+  inputs.first_frame = first;
+  inputs.wall_seconds = wall.ElapsedMs() / 1000.0;
+  std::optional<EvalResult> ate;
+  if (sequence.HasGroundTruth() && trajectory.size() >= 3) {
+    ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
+  }
+  nlohmann::json stats = BuildRunStats(system, inputs, ate);
+  if (masks) stats["dynamic_keypoints"] = label_stats.ToJson();
+
+  WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
+  WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
+  schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
+  WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
+  return stats;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,29 @@
+// The `dynorb run` pipeline as a function, shared by `dynorb run` and `dynorb bench`: reads a
+// TUM-format folder, runs SLAM with the chosen mode, writes trajectory.txt, keyframes.txt,
+// effective_config.yaml and stats.json into `out`, and returns the stats.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace dynorb {
+
+struct RunRequest {
+  std::string dataset;                 // sequence folder
+  std::string config;                  // YAML; empty: DATASET/camera.yaml
+  std::string out;                     // output folder (created)
+  std::string mode = "plain";          // see run_modes.h
+  std::string run_mode = "sequential"; // or "parallel"
+  uint64_t seed = 0;
+  std::string frames;                  // "A:B" or empty
+  std::string models;                  // detector model folder (semantic modes)
+  std::string overlays;                // folder for overlay images; empty: none
+  bool quiet = false;                  // no progress bar
+};
+
+// Throws InputError for bad input (nothing is written then, or only complete files).
+nlohmann::json RunPipeline(const RunRequest& request);
+
+}  // namespace dynorb
