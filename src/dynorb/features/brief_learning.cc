@@ -10,11 +10,8 @@
 namespace dynorb {
 namespace {
 
-#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
-__attribute__((target_clones("popcnt", "default")))
-#endif
-int64_t
-CountBoth(const uint64_t* a, const uint64_t* b, int n_words) {
+// Offline code: portable popcount (no ifunc/target_clones, which sanitizer builds cannot load).
+int64_t CountBoth(const uint64_t* a, const uint64_t* b, int n_words) {
   int64_t n = 0;
   for (int w = 0; w < n_words; ++w) n += __builtin_popcountll(a[w] & b[w]);
   return n;

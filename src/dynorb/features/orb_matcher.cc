@@ -11,13 +11,18 @@ namespace dynorb {
 namespace {
 
 // Best and second-best train rows per query row, best query row per train row (lowest index on
-// ties). Compiled twice on x86-64 GCC/Clang: with the POPCNT instruction (picked at load time on
-// CPUs that have it) and a portable fallback.
-#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
-__attribute__((target_clones("popcnt", "default")))
+// ties). Inlined twice: into a POPCNT-enabled function chosen at run time on CPUs that have the
+// instruction, and into a portable one. (Plain runtime dispatch rather than target_clones: an
+// ifunc resolver runs before sanitizer runtimes are initialised and crashes TSan builds.)
+#if defined(__GNUC__) || defined(__clang__)
+#define DYNORB_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define DYNORB_ALWAYS_INLINE inline
 #endif
-void NearestNeighbours(const cv::Mat& query, const cv::Mat& train, int* q_best, int* q_best_d,
-                       int* q_second_d, int* t_best, int* t_best_d) {
+
+DYNORB_ALWAYS_INLINE void NearestNeighboursKernel(const cv::Mat& query, const cv::Mat& train,
+                                                  int* q_best, int* q_best_d, int* q_second_d,
+                                                  int* t_best, int* t_best_d) {
   const int nq = query.rows, nt = train.rows;
   for (int t = 0; t < nt; ++t) {
     t_best[t] = -1;
@@ -49,6 +54,34 @@ void NearestNeighbours(const cv::Mat& query, const cv::Mat& train, int* q_best, 
     q_best_d[q] = best_d;
     q_second_d[q] = second_d;
   }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target("popcnt"))) void NearestNeighboursPopcnt(const cv::Mat& query,
+                                                               const cv::Mat& train, int* q_best,
+                                                               int* q_best_d, int* q_second_d,
+                                                               int* t_best, int* t_best_d) {
+  NearestNeighboursKernel(query, train, q_best, q_best_d, q_second_d, t_best, t_best_d);
+}
+
+bool CpuHasPopcnt() {
+  static const bool kHas = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("popcnt") != 0;
+  }();
+  return kHas;
+}
+#endif
+
+void NearestNeighbours(const cv::Mat& query, const cv::Mat& train, int* q_best, int* q_best_d,
+                       int* q_second_d, int* t_best, int* t_best_d) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (CpuHasPopcnt()) {
+    NearestNeighboursPopcnt(query, train, q_best, q_best_d, q_second_d, t_best, t_best_d);
+    return;
+  }
+#endif
+  NearestNeighboursKernel(query, train, q_best, q_best_d, q_second_d, t_best, t_best_d);
 }
 
 void CheckDescriptors(const cv::Mat& m, const char* name) {
