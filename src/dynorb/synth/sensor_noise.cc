@@ -60,7 +60,10 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
   rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
   cv::resize(coarse, correlated, depth_m.size(), 0, 0, cv::INTER_LINEAR);
   FastNormal normal(seed);
-  for (auto it = fine.begin<float>(); it != fine.end<float>(); ++it) *it = 0.5f * normal();
+  for (int y = 0; y < h; ++y) {
+    float* row = fine.ptr<float>(y);
+    for (int x = 0; x < w; ++x) row[x] = 0.5f * normal();
+  }
   // Invalid pixels: depth discontinuities and the projector's shadow left of foreground edges.
   cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8U);
   cv::Mat invalid = cv::Mat::zeros(depth_m.size(), CV_8U);
@@ -111,9 +114,9 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
       if (f[x] > 1.45f) continue;  // ~0.2 % of the pixels
       const double sigma = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4);
       const double noisy = z + sigma * (c[x] + f[x]);
-      const double disparity = std::round(kFocalBaseline / noisy / q) * q;
-      const double zq = kFocalBaseline / disparity;
-      o[x] = static_cast<uint16_t>(std::clamp(std::lround(zq * options.depth_factor), 0L, 65535L));
+      const double steps = static_cast<double>(static_cast<int64_t>(kFocalBaseline / (noisy * q) + 0.5));
+      const double zq = kFocalBaseline / (steps * q);  // steps >= 77 for z <= 4.5 m
+      o[x] = static_cast<uint16_t>(std::min(65535.0, zq * options.depth_factor + 0.5));
     }
   }
   return out;
@@ -151,16 +154,20 @@ void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, co
   const double cx = 0.5 * (w - 1), cy = 0.5 * (h - 1), r2max = cx * cx + cy * cy;
   float sigma_of[256];
   for (int i = 0; i < 256; ++i) sigma_of[i] = static_cast<float>(std::sqrt(4.0 + 0.12 * i));
+  std::vector<float> column_term(w);
+  for (int x = 0; x < w; ++x) column_term[x] = static_cast<float>((x - cx) * (x - cx) / r2max);
   FastNormal normal(seed);
   for (int y = 0; y < h; ++y) {
     uchar* p = img.ptr<uchar>(y);
-    const double dy2 = (y - cy) * (y - cy);
+    const float row_term = static_cast<float>((y - cy) * (y - cy) / r2max);
+    const float g0 = static_cast<float>(gain);
     for (int x = 0; x < w; ++x) {
-      const float g = static_cast<float>(gain * (1.0 - 0.22 * ((x - cx) * (x - cx) + dy2) / r2max));
+      const float g = g0 * (1.0f - 0.22f * (column_term[x] + row_term));
       for (int c = 0; c < 3; ++c) {
         const float v = p[3 * x + c] * g;
-        const int iv = std::clamp(static_cast<int>(v), 0, 255);
-        p[3 * x + c] = cv::saturate_cast<uchar>(v + sigma_of[iv] * normal());
+        const int iv = std::min(static_cast<int>(v), 255);
+        const float noisy = v + sigma_of[iv] * normal() + 0.5f;
+        p[3 * x + c] = static_cast<uchar>(std::clamp(noisy, 0.0f, 255.0f));
       }
     }
   }
