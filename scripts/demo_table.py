@@ -1,0 +1,39 @@
+#!/usr/bin/env python3
+"""Prints the demo's comparison table from the stats.json files under a runs folder."""
+import json
+import pathlib
+import sys
+
+
+def main(runs: pathlib.Path) -> int:
+    rows = {}
+    for stats_path in sorted(runs.glob("*/stats.json")):
+        mode, variant = stats_path.parent.name.rsplit("_", 1)
+        rows[(mode, variant)] = json.loads(stats_path.read_text())
+    if not rows:
+        print("no runs completed")
+        return 1
+    twin = rows.get(("plain", "twin"))
+    twin_ate = twin["ate"]["rmse_m"] if twin and "ate" in twin else None
+    plain_ms = rows.get(("plain", "dynamic"), {}).get("timing_ms", {}).get("frame_total", {}).get("mean")
+    header = f"{'mode':10} {'sequence':9} {'ATE RMSE [m]':>12} {'ratio to twin':>13} {'tracked':>8} " \
+             f"{'ms/frame':>9} {'speed vs plain':>14} {'dyn. kp recall':>14} {'precision':>9}"
+    print(header)
+    print("-" * len(header))
+    for (mode, variant), s in sorted(rows.items(), key=lambda kv: (kv[0][1] != "twin", kv[0][0])):
+        ate = s.get("ate", {}).get("rmse_m")
+        ms = s["timing_ms"]["frame_total"]["mean"]
+        dyn = s.get("dynamic_keypoints", {})
+        ratio = f"{ate / twin_ate:13.1f}" if ate is not None and twin_ate else f"{'-':>13}"
+        speed = f"{ms / plain_ms:13.2f}x" if plain_ms else f"{'-':>14}"
+        has_filter = mode != "plain" and dyn
+        recall = f"{dyn['recall']:14.2f}" if has_filter else f"{'-':>14}"
+        precision = f"{dyn['precision']:9.2f}" if has_filter else f"{'-':>9}"
+        ate_text = f"{ate:12.4f}" if ate is not None else f"{'-':>12}"
+        print(f"{mode:10} {variant:9} {ate_text} {ratio} {100 * s['tracked_fraction']:7.1f}% {ms:9.1f} {speed} "
+              f"{recall} {precision}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(pathlib.Path(sys.argv[1])))
