@@ -8,22 +8,6 @@
 #include <opencv2/imgproc.hpp>
 
 namespace dynorb::synth {
-namespace {
-
-// Bilinear sample of a CV_32FC2 image with clamped coordinates.
-cv::Vec2f SampleBilinear(const cv::Mat& img, double x, double y) {
-  x = std::clamp(x, 0.0, img.cols - 1.0);
-  y = std::clamp(y, 0.0, img.rows - 1.0);
-  const int x0 = std::min(static_cast<int>(x), img.cols - 2 < 0 ? 0 : img.cols - 2);
-  const int y0 = std::min(static_cast<int>(y), img.rows - 2 < 0 ? 0 : img.rows - 2);
-  const int x1 = std::min(x0 + 1, img.cols - 1), y1 = std::min(y0 + 1, img.rows - 1);
-  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
-  const auto* r0 = img.ptr<cv::Vec2f>(y0);
-  const auto* r1 = img.ptr<cv::Vec2f>(y1);
-  return (r0[x0] * (1 - fx) + r0[x1] * fx) * (1 - fy) + (r1[x0] * (1 - fx) + r1[x1] * fx) * fy;
-}
-
-}  // namespace
 
 Renderer::Renderer(const PinholeCamera& camera, int supersample) : camera_(camera), supersample_(supersample) {
   CV_Assert(supersample >= 1 && supersample <= 4 && camera.width > 0 && camera.height > 0);
@@ -153,20 +137,33 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         }
         continue;
       }
-      // Sprites: alpha test and body bulge from the texture (perspective-correct lookup).
-      const float max_tx = sprite->width() - 0.5f, max_ty = sprite->height() - 0.5f;
+      // Sprites: alpha test and body bulge from the texture (perspective-correct bilinear lookup).
+      const cv::Mat& ab = sprite->alpha_bulge;
+      const float max_tx = ab.cols - 0.5f, max_ty = ab.rows - 0.5f;
+      const float clamp_x = std::max(0.0f, ab.cols - 1.001f), clamp_y = std::max(0.0f, ab.rows - 1.001f);
+      const size_t stride = ab.step1();
+      const size_t next_x = ab.cols > 1 ? 2 : 0, next_y = ab.rows > 1 ? stride : 0;
+      const float* ab_data = ab.ptr<float>(0);
+      const float a = static_cast<float>(p.a), row_c = static_cast<float>(p.b * y + p.c);
+      const float width_m = static_cast<float>(p.width_m);
       double nx = t(0, 0) * x_begin + t(0, 1) * y + t(0, 2);
       double ny = t(1, 0) * x_begin + t(1, 1) * y + t(1, 2);
       double nw = t(2, 0) * x_begin + t(2, 1) * y + t(2, 2);
       for (int x = x_begin; x < x_end; ++x, nx += t(0, 0), ny += t(1, 0), nw += t(2, 0)) {
-        const float inv_w = static_cast<float>(1.0 / nw);
+        const float inv_w = 1.0f / static_cast<float>(nw);
         const float tx = static_cast<float>(nx) * inv_w, ty = static_cast<float>(ny) * inv_w;
         if (tx < -0.5f || ty < -0.5f || tx > max_tx || ty > max_ty) continue;
-        const cv::Vec2f ab = SampleBilinear(sprite->alpha_bulge, tx, ty);
-        if (ab[0] < 0.5f) continue;
-        const double z = 1.0 / (p.a * x + p.b * y + p.c) - ab[1] * p.width_m;
+        const float cx = std::clamp(tx, 0.0f, clamp_x), cy = std::clamp(ty, 0.0f, clamp_y);
+        const int ix = static_cast<int>(cx), iy = static_cast<int>(cy);
+        const float fx = cx - ix, fy = cy - iy;
+        const float* r0 = ab_data + iy * stride + 2 * ix;
+        const float* r1 = r0 + next_y;
+        const float a_top = r0[0] + fx * (r0[next_x] - r0[0]), a_bottom = r1[0] + fx * (r1[next_x] - r1[0]);
+        if (a_top + fy * (a_bottom - a_top) < 0.5f) continue;
+        const float b_top = r0[1] + fx * (r0[next_x + 1] - r0[1]), b_bottom = r1[1] + fx * (r1[next_x + 1] - r1[1]);
+        const float z = 1.0f / (a * x + row_c) - (b_top + fy * (b_bottom - b_top)) * width_m;
         if (z <= kNearM) continue;
-        const float iz = static_cast<float>(1.0 / z);
+        const float iz = 1.0f / z;
         if (iz <= zrow[x]) continue;
         zrow[x] = iz;
         irow[x] = static_cast<int>(qi);
