@@ -1,0 +1,370 @@
+#include "dynorb/dynamic/detector_dnn.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/timer.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char kFetchHint[] =
+    "get the models with `scripts/fetch_models.sh --dest DIR` (downloads from the upstream "
+    "repositories at pinned commits and checks sha256) and pass --models DIR";
+
+std::string Trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+std::vector<std::string> ReadNames(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the class-name file; " + kFetchHint);
+  std::vector<std::string> names;
+  std::string line;
+  while (std::getline(in, line)) {
+    line = Trim(line);
+    if (!line.empty()) names.push_back(line);
+  }
+  if (names.empty()) throw InputError(path + ": class-name file is empty (expected one class name per line)");
+  return names;
+}
+
+// Darknet cfg as a list of (section, key -> value).
+struct CfgSection {
+  std::string type;
+  std::map<std::string, std::string> values;
+  int line = 0;
+};
+
+std::vector<CfgSection> ReadCfg(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the darknet cfg; " + kFetchHint);
+  std::vector<CfgSection> sections;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    line = Trim(line.substr(0, line.find('#')));
+    if (line.empty()) continue;
+    if (line.front() == '[') {
+      if (line.back() != ']') throw InputErrorAt(path, number, "malformed section header '" + line + "'");
+      sections.push_back({line.substr(1, line.size() - 2), {}, number});
+      continue;
+    }
+    const size_t eq = line.find('=');
+    if (eq == std::string::npos || sections.empty()) {
+      throw InputErrorAt(path, number, "expected 'key=value' inside a [section], got '" + line + "'");
+    }
+    sections.back().values[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+  }
+  if (sections.empty() || sections.front().type != "net") {
+    throw InputError(path + ": not a darknet cfg (expected a first [net] section)");
+  }
+  return sections;
+}
+
+int IntValue(const CfgSection& s, const std::string& key, int fallback, const std::string& path) {
+  auto it = s.values.find(key);
+  if (it == s.values.end()) return fallback;
+  try {
+    return std::stoi(it->second);
+  } catch (const std::exception&) {
+    throw InputErrorAt(path, s.line, "[" + s.type + "] " + key + " is not an integer: '" + it->second + "'");
+  }
+}
+
+std::vector<int> IntList(const std::string& text) {
+  std::vector<int> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) out.push_back(std::stoi(Trim(item)));
+  return out;
+}
+
+std::string Join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+}  // namespace
+
+const std::vector<ModelSpec>& SupportedModels() {
+  static const std::vector<ModelSpec> specs = {
+      {"yolo_fastest_1.1", ModelFamily::kDarknetYolo, "yolo-fastest-1.1.weights", "yolo-fastest-1.1.cfg",
+       "coco.names", {320, 320}},
+      {"yolo_fastest_1.1_xl", ModelFamily::kDarknetYolo, "yolo-fastest-1.1-xl.weights",
+       "yolo-fastest-1.1-xl.cfg", "coco.names", {320, 320}},
+      {"yolo_fastest_1.1_body", ModelFamily::kDarknetYolo, "yolo-fastest-1.1_body.weights",
+       "yolo-fastest-1.1_body.cfg", "body.names", {320, 320}},
+      {"yolox_nano", ModelFamily::kYolox, "yolox_nano.onnx", "", "coco.names", {416, 416}},
+      {"fastestdet", ModelFamily::kFastestDet, "FastestDet.onnx", "", "coco.names", {352, 352}},
+      {"nanodet_m_320", ModelFamily::kNanoDet, "nanodet.onnx", "", "coco.names", {320, 320}},
+  };
+  return specs;
+}
+
+const ModelSpec& FindModelSpec(const std::string& name) {
+  for (const ModelSpec& spec : SupportedModels()) {
+    if (spec.name == name) return spec;
+  }
+  std::vector<std::string> names;
+  for (const ModelSpec& spec : SupportedModels()) names.push_back(spec.name);
+  throw InputError("unknown detector model '" + name + "' (supported: " + Join(names) + ")");
+}
+
+std::string ResolveModelsDir(const std::string& flag) {
+  if (!flag.empty()) return flag;
+  if (fs::is_directory("../shared/models")) return "../shared/models";
+  return "models";
+}
+
+const std::vector<std::string>& CocoClassNames() {
+  static const std::vector<std::string> names = {
+      "person", "bicycle", "car", "motorbike", "aeroplane", "bus", "train", "truck", "boat",
+      "traffic light", "fire hydrant", "stop sign", "parking meter", "bench", "bird", "cat", "dog",
+      "horse", "sheep", "cow", "elephant", "bear", "zebra", "giraffe", "backpack", "umbrella",
+      "handbag", "tie", "suitcase", "frisbee", "skis", "snowboard", "sports ball", "kite",
+      "baseball bat", "baseball glove", "skateboard", "surfboard", "tennis racket", "bottle",
+      "wine glass", "cup", "fork", "knife", "spoon", "bowl", "banana", "apple", "sandwich", "orange",
+      "broccoli", "carrot", "hot dog", "pizza", "donut", "cake", "chair", "sofa", "pottedplant", "bed",
+      "diningtable", "toilet", "tvmonitor", "laptop", "mouse", "remote", "keyboard", "cell phone",
+      "microwave", "oven", "toaster", "sink", "refrigerator", "book", "clock", "vase", "scissors",
+      "teddy bear", "hair drier", "toothbrush"};
+  return names;
+}
+
+void DetectorOptions::Validate() const {
+  FindModelSpec(model);
+  if (!(score_threshold > 0.f && score_threshold < 1.f)) {
+    throw InputError("semantic.score_threshold must be in (0, 1), got " + std::to_string(score_threshold));
+  }
+  if (!(nms_iou > 0.f && nms_iou <= 1.f)) {
+    throw InputError("semantic.nms_iou must be in (0, 1], got " + std::to_string(nms_iou));
+  }
+}
+
+size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes) {
+  const std::vector<CfgSection> sections = ReadCfg(cfg_path);
+  std::vector<int> channels;  // output channels of each layer (sections after [net])
+  int current = IntValue(sections[0], "channels", 3, cfg_path);
+  size_t params = 0;
+  for (size_t i = 1; i < sections.size(); ++i) {
+    const CfgSection& s = sections[i];
+    const int index = static_cast<int>(i) - 1;
+    if (s.type == "convolutional") {
+      const int filters = IntValue(s, "filters", 1, cfg_path);
+      const int size = IntValue(s, "size", 1, cfg_path);
+      const int groups = IntValue(s, "groups", 1, cfg_path);
+      const bool bn = IntValue(s, "batch_normalize", 0, cfg_path) != 0;
+      if (groups < 1 || current % groups != 0) {
+        throw InputErrorAt(cfg_path, s.line, "groups=" + std::to_string(groups) + " does not divide the " +
+                                                 std::to_string(current) + " input channels");
+      }
+      params += static_cast<size_t>(bn ? 4 : 1) * filters +
+                static_cast<size_t>(filters) * (current / groups) * size * size;
+      current = filters;
+    } else if (s.type == "route") {
+      auto it = s.values.find("layers");
+      if (it == s.values.end()) throw InputErrorAt(cfg_path, s.line, "[route] without layers=");
+      int sum = 0;
+      for (int ref : IntList(it->second)) {
+        const int abs = ref < 0 ? index + ref : ref;
+        if (abs < 0 || abs >= index) throw InputErrorAt(cfg_path, s.line, "[route] refers to a missing layer");
+        sum += channels[abs];
+      }
+      current = sum;
+    } else if (s.type == "shortcut" || s.type == "maxpool" || s.type == "upsample" || s.type == "yolo" ||
+               s.type == "dropout") {
+      // Channel count unchanged, no weights.
+    } else {
+      throw InputErrorAt(cfg_path, s.line, "unsupported darknet layer [" + s.type + "]");
+    }
+    channels.push_back(current);
+  }
+  return header_bytes + params * sizeof(float);
+}
+
+void DnnDetector::CheckFiles(const std::string& folder) {
+  if (!fs::is_directory(folder)) {
+    throw InputError("detector model '" + spec_.name + "': folder " + folder + " not found; " + kFetchHint);
+  }
+  for (const std::string& file : {spec_.model_file, spec_.config_file, spec_.names_file}) {
+    if (file.empty()) continue;
+    const fs::path path = fs::path(folder) / file;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) == 0) {
+      throw InputError("detector model '" + spec_.name + "': " + path.string() + " is missing or empty; " +
+                       kFetchHint);
+    }
+  }
+  if (spec_.family != ModelFamily::kDarknetYolo) return;
+  // Darknet weights carry no shape information: compare the file size with the cfg's parameters.
+  const std::string weights = (fs::path(folder) / spec_.model_file).string();
+  const std::string cfg = (fs::path(folder) / spec_.config_file).string();
+  std::ifstream in(weights, std::ios::binary);
+  int32_t version[3] = {0, 0, 0};
+  in.read(reinterpret_cast<char*>(version), sizeof(version));
+  if (!in) throw InputError(weights + ": truncated darknet weights header (expected 3 int32 version fields)");
+  const bool wide_seen = version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
+  const size_t header = sizeof(version) + (wide_seen ? 8 : 4);
+  const size_t expected = DarknetExpectedWeightBytes(cfg, header);
+  const size_t actual = fs::file_size(weights);
+  if (actual != expected) {
+    throw InputError(weights + ": " + std::to_string(actual) + " bytes, but " + cfg + " describes a network of " +
+                     std::to_string(expected) + " bytes of weights (cfg/weights mismatch or corrupt download); " +
+                     kFetchHint);
+  }
+}
+
+DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
+  options_.Validate();
+  spec_ = FindModelSpec(options_.model);
+  const std::string folder = (fs::path(options_.models_dir) / spec_.name).string();
+  CheckFiles(folder);
+  const std::string model_path = (fs::path(folder) / spec_.model_file).string();
+  const std::string names_path = (fs::path(folder) / spec_.names_file).string();
+  class_names_ = ReadNames(names_path);
+  for (std::string& name : class_names_) {
+    if (name == "body") name = "person";
+  }
+  try {
+    if (spec_.family == ModelFamily::kDarknetYolo) {
+      net_ = cv::dnn::readNetFromDarknet((fs::path(folder) / spec_.config_file).string(), model_path);
+    } else {
+      net_ = cv::dnn::readNetFromONNX(model_path);
+    }
+  } catch (const cv::Exception& e) {
+    throw InputError(model_path + ": OpenCV DNN cannot load this " +
+                     (spec_.family == ModelFamily::kDarknetYolo ? std::string("darknet model") : std::string("ONNX model")) +
+                     " (corrupt or wrong file?): " + Trim(e.err) + "; " + kFetchHint);
+  }
+  if (net_.empty()) throw InputError(model_path + ": OpenCV DNN loaded an empty network; " + kFetchHint);
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  output_names_ = net_.getUnconnectedOutLayersNames();
+  // Warm-up on a grey image: checks the output layout against the names file.
+  try {
+    ResizeTransform t;
+    const cv::Mat probe(spec_.input, CV_8UC3, cv::Scalar(114, 114, 114));
+    Decode(Forward(probe, &t), t, probe.size());
+  } catch (const cv::Exception& e) {
+    throw InputError(model_path + ": inference failed (" + Trim(e.err) + "); expected the " + spec_.name +
+                     " model described in its SOURCE.txt; " + kFetchHint);
+  }
+}
+
+std::vector<cv::Mat> DnnDetector::Forward(const cv::Mat& bgr, ResizeTransform* t) {
+  Stopwatch watch;
+  cv::Mat blob;
+  switch (spec_.family) {
+    case ModelFamily::kDarknetYolo:  // plain resize, RGB, /255
+      *t = StretchTransform(bgr.size(), spec_.input);
+      blob = cv::dnn::blobFromImage(ApplyResize(bgr, *t, {}), 1.0 / 255.0, spec_.input, cv::Scalar(), true, false);
+      break;
+    case ModelFamily::kYolox:  // top-left letterbox padded with 114, BGR 0..255
+      *t = LetterboxTransform(bgr.size(), spec_.input, false);
+      blob = cv::dnn::blobFromImage(ApplyResize(bgr, *t, cv::Scalar(114, 114, 114)), 1.0, spec_.input,
+                                    cv::Scalar(), false, false);
+      break;
+    case ModelFamily::kFastestDet:  // plain resize, BGR, /255
+      *t = StretchTransform(bgr.size(), spec_.input);
+      blob = cv::dnn::blobFromImage(ApplyResize(bgr, *t, {}), 1.0 / 255.0, spec_.input, cv::Scalar(), false, false);
+      break;
+    case ModelFamily::kNanoDet: {  // centred letterbox, BGR, (x - mean) / std
+      *t = LetterboxTransform(bgr.size(), spec_.input, true);
+      blob = cv::dnn::blobFromImage(ApplyResize(bgr, *t, cv::Scalar(0, 0, 0)), 1.0, spec_.input,
+                                    cv::Scalar(103.53, 116.28, 123.675), false, false);
+      const double inv_std[3] = {1.0 / 57.375, 1.0 / 57.12, 1.0 / 58.395};
+      const int plane = spec_.input.area();
+      float* data = blob.ptr<float>();
+      for (int c = 0; c < 3; ++c) {
+        for (int i = 0; i < plane; ++i) data[c * plane + i] = static_cast<float>(data[c * plane + i] * inv_std[c]);
+      }
+      break;
+    }
+  }
+  timing_.preprocess_ms = watch.ElapsedMs();
+  watch.Restart();
+  net_.setInput(blob);
+  std::vector<cv::Mat> outputs;
+  net_.forward(outputs, output_names_);
+  timing_.inference_ms = watch.ElapsedMs();
+  return outputs;
+}
+
+std::vector<Detection> DnnDetector::Decode(const std::vector<cv::Mat>& outputs, const ResizeTransform& t,
+                                           cv::Size image) {
+  const int num_classes = static_cast<int>(class_names_.size());
+  auto last_dim = [](const cv::Mat& m) { return m.size[m.dims - 1]; };
+  auto expect = [&](bool ok, const std::string& what) {
+    if (!ok) {
+      throw InputError(spec_.name + ": unexpected network output (" + what + ") for " +
+                       std::to_string(num_classes) + " classes of " + spec_.names_file +
+                       "; expected the model described in its SOURCE.txt");
+    }
+  };
+  std::vector<Detection> net_boxes;
+  const float thr = static_cast<float>(options_.score_threshold);
+  switch (spec_.family) {
+    case ModelFamily::kDarknetYolo:
+      for (const cv::Mat& out : outputs) {
+        expect(out.dims == 2 && out.cols == 5 + num_classes, "[yolo] rows of 5 + classes values");
+        const auto d = DecodeDarknetRows(out, t.net_size, thr);
+        net_boxes.insert(net_boxes.end(), d.begin(), d.end());
+      }
+      break;
+    case ModelFamily::kYolox: {
+      expect(outputs.size() == 1 && last_dim(outputs[0]) == 5 + num_classes, "1 x anchors x (5 + classes)");
+      const int s = t.net_size.area();
+      expect(outputs[0].total() == static_cast<size_t>(s / 64 + s / 256 + s / 1024) * (5 + num_classes),
+             "anchors of strides 8/16/32");
+      net_boxes = DecodeYolox(outputs[0], t.net_size, thr);
+      break;
+    }
+    case ModelFamily::kFastestDet:
+      expect(outputs.size() == 1 && outputs[0].dims == 4 && outputs[0].size[1] == 5 + num_classes,
+             "1 x (5 + classes) x H x W");
+      net_boxes = DecodeFastestDet(outputs[0], t.net_size, thr);
+      break;
+    case ModelFamily::kNanoDet: {
+      // Pair score and box outputs of each stride by their cell count.
+      std::map<size_t, const cv::Mat*> cls_by_cells, reg_by_cells;
+      for (const cv::Mat& out : outputs) {
+        if (last_dim(out) == num_classes) cls_by_cells[out.total() / num_classes] = &out;
+        else reg_by_cells[out.total() / last_dim(out)] = &out;
+      }
+      expect(!cls_by_cells.empty() && cls_by_cells.size() == reg_by_cells.size(), "cls_score/bbox_pred pairs");
+      for (int stride : {8, 16, 32, 64}) {
+        const size_t cells = static_cast<size_t>((t.net_size.width + stride - 1) / stride) *
+                             ((t.net_size.height + stride - 1) / stride);
+        auto c = cls_by_cells.find(cells);
+        auto r = reg_by_cells.find(cells);
+        if (c == cls_by_cells.end() || r == reg_by_cells.end()) continue;
+        const auto d = DecodeNanoDetLevel(*c->second, *r->second, stride, t.net_size, thr);
+        net_boxes.insert(net_boxes.end(), d.begin(), d.end());
+      }
+      break;
+    }
+  }
+  return NonMaxSuppression(MapToImage(net_boxes, t, image), static_cast<float>(options_.nms_iou));
+}
+
+std::vector<Detection> DnnDetector::Detect(const cv::Mat& bgr) {
+  CV_Assert(bgr.type() == CV_8UC3);
+  ResizeTransform t;
+  const std::vector<cv::Mat> outputs = Forward(bgr, &t);
+  Stopwatch watch;
+  std::vector<Detection> result = Decode(outputs, t, bgr.size());
+  timing_.postprocess_ms = watch.ElapsedMs();
+  return result;
+}
+
+}  // namespace dynorb

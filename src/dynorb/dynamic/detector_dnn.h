@@ -1,0 +1,84 @@
+// DnnDetector: the real object detectors of the semantic mode, run through OpenCV DNN
+// (DNN_BACKEND_OPENCV, DNN_TARGET_CPU), with the exact pre/post-processing of each model of
+// ../shared/models (see each folder's SOURCE.txt and docs/semantic_mode.md):
+//   darknet  yolo_fastest_1.1 (default), yolo_fastest_1.1_xl, yolo_fastest_1.1_body  320x320
+//   ONNX     yolox_nano 416x416, fastestdet 352x352, nanodet_m_320 320x320
+// Construction loads and validates the model files (a missing, truncated or mismatched file is an
+// InputError naming the file, what was expected and how to fetch the models) and runs one
+// warm-up inference that checks the output layout. Detect() is not thread-safe (one network);
+// use one DnnDetector per thread.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+
+#include "dynorb/dynamic/detector_decode.h"
+
+namespace dynorb {
+
+enum class ModelFamily { kDarknetYolo, kYolox, kFastestDet, kNanoDet };
+
+struct ModelSpec {
+  std::string name;         // Folder name under the models directory.
+  ModelFamily family;
+  std::string model_file;   // .weights or .onnx
+  std::string config_file;  // darknet .cfg (empty for ONNX)
+  std::string names_file;   // one class name per line
+  cv::Size input;           // network input size
+};
+
+// The supported models, default first.
+const std::vector<ModelSpec>& SupportedModels();
+// Throws InputError listing the supported names.
+const ModelSpec& FindModelSpec(const std::string& name);
+// --models resolution: `flag` if given, else ../shared/models when it exists, else models/.
+std::string ResolveModelsDir(const std::string& flag);
+// The 80 COCO class names in the order of the models' outputs.
+const std::vector<std::string>& CocoClassNames();
+
+struct DetectorOptions {
+  std::string model = "yolo_fastest_1.1";  // one of SupportedModels()
+  std::string models_dir = "models";       // folder holding <model>/<files>
+  double score_threshold = 0.3;            // minimum confidence of a detection
+  double nms_iou = 0.45;                   // class-wise NMS overlap threshold
+  void Validate() const;
+};
+
+struct DetectorTiming {
+  double preprocess_ms = 0.0;
+  double inference_ms = 0.0;
+  double postprocess_ms = 0.0;
+};
+
+// Expected size in bytes of the darknet weights file for `cfg_path` (header of `header_bytes`
+// + one float per parameter). Throws InputError for an unreadable/unsupported cfg.
+size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes);
+
+class DnnDetector {
+ public:
+  explicit DnnDetector(const DetectorOptions& options);
+  // Boxes in image pixels after thresholding and NMS, decreasing score.
+  std::vector<Detection> Detect(const cv::Mat& bgr);
+  // The model's class names (the body model's single class "body" is reported as "person").
+  const std::vector<std::string>& class_names() const { return class_names_; }
+  const ModelSpec& spec() const { return spec_; }
+  const DetectorTiming& last_timing() const { return timing_; }
+
+ private:
+  std::vector<Detection> Decode(const std::vector<cv::Mat>& outputs, const ResizeTransform& t,
+                                cv::Size image);
+  void CheckFiles(const std::string& folder);
+  std::vector<cv::Mat> Forward(const cv::Mat& bgr, ResizeTransform* transform);
+
+  DetectorOptions options_;
+  ModelSpec spec_;
+  cv::dnn::Net net_;
+  std::vector<std::string> output_names_;
+  std::vector<std::string> class_names_;
+  DetectorTiming timing_;
+};
+
+}  // namespace dynorb

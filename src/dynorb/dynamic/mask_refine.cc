@@ -1,0 +1,128 @@
+#include "dynorb/dynamic/mask_refine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/core/error.h"
+
+namespace dynorb {
+namespace {
+
+constexpr double kBinM = 0.1;
+constexpr int kBins = 120;  // 0 .. 12 m
+
+float Median(std::vector<float>* values) {
+  auto mid = values->begin() + values->size() / 2;
+  std::nth_element(values->begin(), mid, values->end());
+  return *mid;
+}
+
+// Most populated 0.1 m bin of `values` (ties: the nearer bin), as its centre depth.
+float ModeDepth(const std::vector<float>& values) {
+  std::vector<int> hist(kBins, 0);
+  for (float v : values) hist[std::min(kBins - 1, static_cast<int>(v / kBinM))]++;
+  // Smooth over 3 bins so a cluster split across a bin edge still wins.
+  int best = 0, best_count = -1;
+  for (int b = 0; b < kBins; ++b) {
+    const int count = hist[b] + (b > 0 ? hist[b - 1] : 0) + (b + 1 < kBins ? hist[b + 1] : 0);
+    if (count > best_count) best = b, best_count = count;
+  }
+  return static_cast<float>((best + 0.5) * kBinM);
+}
+
+void FillDilated(const cv::Rect& rect, const cv::Mat& local, int dilation_px, cv::Mat* mask) {
+  const cv::Rect image(0, 0, mask->cols, mask->rows);
+  const cv::Rect grown = cv::Rect(rect.x - dilation_px, rect.y - dilation_px, rect.width + 2 * dilation_px,
+                                  rect.height + 2 * dilation_px);
+  cv::Mat canvas = cv::Mat::zeros(grown.size(), CV_8U);
+  local.copyTo(canvas(cv::Rect(dilation_px, dilation_px, rect.width, rect.height)));
+  if (dilation_px > 0) {
+    const cv::Mat kernel =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilation_px + 1, 2 * dilation_px + 1));
+    cv::dilate(canvas, canvas, kernel);
+  }
+  const cv::Rect clipped = grown & image;
+  cv::Mat target = (*mask)(clipped);
+  cv::bitwise_or(target, canvas(cv::Rect(clipped.x - grown.x, clipped.y - grown.y, clipped.width, clipped.height)),
+                 target);
+}
+
+}  // namespace
+
+void DepthRefineOptions::Validate() const {
+  if (band_m <= 0.0 || band_per_m < 0.0) throw InputError("semantic: depth band must be positive");
+  if (dilation_px < 0 || dilation_px > 100) throw InputError("semantic.dilation_px must be in [0, 100]");
+  if (min_valid_fraction < 0.0 || min_valid_fraction > 1.0) {
+    throw InputError("semantic.min_valid_depth_fraction must be in [0, 1]");
+  }
+}
+
+RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, const DepthRefineOptions& options,
+                              float depth_hint_m, cv::Mat* mask) {
+  CV_Assert(mask != nullptr && mask->type() == CV_8U);
+  const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::floor(box.x)), static_cast<int>(std::floor(box.y))),
+                                 cv::Point(static_cast<int>(std::ceil(box.br().x)), static_cast<int>(std::ceil(box.br().y)))) &
+                        cv::Rect(0, 0, mask->cols, mask->rows);
+  RefinedMask result;
+  if (rect.empty()) return result;
+  cv::Mat local(rect.size(), CV_8U, cv::Scalar(255));
+  if (!options.enabled || depth_m.empty()) {
+    FillDilated(rect, local, options.dilation_px, mask);
+    return result;
+  }
+  CV_Assert(depth_m.type() == CV_32F && depth_m.size() == mask->size());
+  const cv::Mat depth = depth_m(rect);
+  std::vector<float> all, central;
+  const int cx0 = rect.width * 3 / 10, cx1 = rect.width * 7 / 10;
+  const int cy0 = rect.height * 2 / 10, cy1 = rect.height * 8 / 10;
+  for (int y = 0; y < depth.rows; ++y) {
+    const float* row = depth.ptr<float>(y);
+    for (int x = 0; x < depth.cols; ++x) {
+      if (!(row[x] > 0.f)) continue;
+      all.push_back(row[x]);
+      if (x >= cx0 && x <= cx1 && y >= cy0 && y <= cy1) central.push_back(row[x]);
+    }
+  }
+  if (all.size() < options.min_valid_fraction * rect.area() || all.empty()) {
+    FillDilated(rect, local, options.dilation_px, mask);
+    return result;
+  }
+  float reference = 0.f;
+  if (depth_hint_m > 0.f) {
+    const float band = static_cast<float>(2.0 * (options.band_m + options.band_per_m * depth_hint_m));
+    std::vector<float> near;
+    for (float v : all) {
+      if (std::abs(v - depth_hint_m) < band) near.push_back(v);
+    }
+    if (near.empty()) {  // The object is not where it was predicted: keep the whole box.
+      FillDilated(rect, local, options.dilation_px, mask);
+      return result;
+    }
+    reference = ModeDepth(near);
+  } else {
+    reference = ModeDepth(central.empty() ? all : central);
+  }
+  // Median of the cluster around the mode: the object's depth.
+  const float coarse_band = static_cast<float>(options.band_m + options.band_per_m * reference);
+  std::vector<float> cluster;
+  for (float v : central.empty() || depth_hint_m > 0.f ? all : central) {
+    if (std::abs(v - reference) < coarse_band) cluster.push_back(v);
+  }
+  if (!cluster.empty()) reference = Median(&cluster);
+  const float band = static_cast<float>(options.band_m + options.band_per_m * reference);
+  for (int y = 0; y < depth.rows; ++y) {
+    const float* row = depth.ptr<float>(y);
+    uint8_t* out = local.ptr<uint8_t>(y);
+    for (int x = 0; x < depth.cols; ++x) out[x] = (row[x] > 0.f && std::abs(row[x] - reference) < band) ? 255 : 0;
+  }
+  cv::morphologyEx(local, local, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  FillDilated(rect, local, options.dilation_px, mask);
+  result.depth_m = reference;
+  result.refined = true;
+  return result;
+}
+
+}  // namespace dynorb

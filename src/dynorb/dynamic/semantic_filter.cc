@@ -1,0 +1,171 @@
+#include "dynorb/dynamic/semantic_filter.h"
+
+#include <algorithm>
+#include <map>
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/timer.h"
+
+namespace dynorb {
+namespace {
+
+std::string Canonical(const std::string& name) {
+  static const std::map<std::string, std::string> aliases = {
+      {"motorcycle", "motorbike"}, {"airplane", "aeroplane"}, {"couch", "sofa"}, {"tv", "tvmonitor"},
+      {"dining table", "diningtable"}, {"potted plant", "pottedplant"}, {"body", "person"}};
+  auto it = aliases.find(name);
+  return it == aliases.end() ? name : it->second;
+}
+
+}  // namespace
+
+std::vector<std::string> DefaultDynamicClasses() {
+  return {"person", "bicycle", "car",   "motorcycle", "bus",      "truck", "bird",  "cat",
+          "dog",    "horse",   "sheep", "cow",        "elephant", "bear",  "zebra", "giraffe"};
+}
+
+std::vector<bool> ResolveDynamicClasses(const std::vector<std::string>& wanted,
+                                        const std::vector<std::string>& model_names) {
+  const std::vector<std::string>& coco = CocoClassNames();
+  std::vector<bool> dynamic(model_names.size(), false);
+  for (const std::string& name : wanted) {
+    const std::string c = Canonical(name);
+    if (std::find(coco.begin(), coco.end(), c) == coco.end()) {
+      std::string valid;
+      for (const auto& n : coco) valid += (valid.empty() ? "" : ", ") + n;
+      throw InputError("semantic.classes: unknown class name '" + name + "' (expected COCO names: " + valid + ")");
+    }
+    for (size_t i = 0; i < model_names.size(); ++i) {
+      if (Canonical(model_names[i]) == c) dynamic[i] = true;
+    }
+  }
+  return dynamic;
+}
+
+void SemanticOptions::Validate() const {
+  detector.Validate();
+  refine.Validate();
+  if (detect_every < 1) throw InputError("semantic.detect_every must be >= 1");
+  if (max_carried_frames < 0) throw InputError("semantic.max_carried_frames must be >= 0");
+  if (classes.empty()) throw InputError("semantic.classes is empty (no a-priori dynamic class)");
+  ResolveDynamicClasses(classes, CocoClassNames());
+}
+
+DetectorMaskProvider::DetectorMaskProvider(const SemanticOptions& options)
+    : options_((options.Validate(), options)), detector_(options.detector) {
+  dynamic_class_ = ResolveDynamicClasses(options_.classes, detector_.class_names());
+}
+
+DynamicObjects DetectorMaskProvider::Masks(const MaskQuery& query) {
+  DynamicObjects result;
+  result.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
+  const cv::Mat no_depth;
+  for (const Detection& d : detector_.Detect(*query.bgr)) {
+    if (d.class_id < 0 || d.class_id >= static_cast<int>(dynamic_class_.size()) || !dynamic_class_[d.class_id]) {
+      continue;
+    }
+    const RefinedMask refined = AddRefinedBoxMask(d.box, query.depth_m ? *query.depth_m : no_depth,
+                                                  options_.refine, 0.f, &result.mask);
+    result.objects.push_back({d, refined.depth_m});
+  }
+  return result;
+}
+
+SemanticFilter::SemanticFilter(std::unique_ptr<MaskProvider> provider, const SemanticOptions& options)
+    : provider_(std::move(provider)), options_(options) {
+  CV_Assert(provider_ != nullptr);
+}
+
+DynamicObjects SemanticFilter::Carry(const cv::Mat& gray, const cv::Mat& depth_m) {
+  DynamicObjects carried;
+  carried.mask = cv::Mat::zeros(gray.size(), CV_8U);
+  if (previous_gray_.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
+  for (const DynamicObject& object : current_.objects) {
+    // Sample up to 8x8 points inside the object's mask and box.
+    const cv::Rect box = cv::Rect(object.detection.box) & cv::Rect(0, 0, gray.cols, gray.rows);
+    if (box.empty()) continue;
+    std::vector<cv::Point2f> points, moved;
+    for (int iy = 0; iy < 8; ++iy) {
+      for (int ix = 0; ix < 8; ++ix) {
+        const cv::Point p(box.x + (2 * ix + 1) * box.width / 16, box.y + (2 * iy + 1) * box.height / 16);
+        if (current_.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
+      }
+    }
+    float dx = 0.f, dy = 0.f;
+    if (points.size() >= 4) {
+      std::vector<uint8_t> status;
+      std::vector<float> error;
+      cv::calcOpticalFlowPyrLK(previous_gray_, gray, points, moved, status, error, cv::Size(21, 21), 3);
+      std::vector<float> xs, ys;
+      for (size_t i = 0; i < points.size(); ++i) {
+        if (!status[i]) continue;
+        xs.push_back(moved[i].x - points[i].x);
+        ys.push_back(moved[i].y - points[i].y);
+      }
+      if (!xs.empty()) {
+        std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
+        std::nth_element(ys.begin(), ys.begin() + ys.size() / 2, ys.end());
+        dx = xs[xs.size() / 2];
+        dy = ys[ys.size() / 2];
+      }
+    }
+    DynamicObject next = object;
+    next.detection.box.x += dx;
+    next.detection.box.y += dy;
+    const RefinedMask refined =
+        AddRefinedBoxMask(next.detection.box, depth_m, options_.refine, object.depth_m, &carried.mask);
+    if (refined.depth_m > 0.f) next.depth_m = refined.depth_m;
+    carried.objects.push_back(next);
+  }
+  return carried;
+}
+
+FilterOutput SemanticFilter::Filter(const FilterInput& input) {
+  CV_Assert(input.bgr && input.gray && input.keypoints);
+  const cv::Mat no_depth;
+  const cv::Mat& depth = input.depth_m ? *input.depth_m : no_depth;
+  Stopwatch watch;
+  last_was_detection_ = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
+  provider_ms_ = propagation_ms_ = 0.0;
+  if (last_was_detection_) {
+    MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
+    current_ = provider_->Masks(query);
+    frames_since_detection_ = 0;
+    provider_ms_ = watch.ElapsedMs();
+  } else {
+    ++frames_since_detection_;
+    current_ = Carry(*input.gray, depth);
+    propagation_ms_ = watch.ElapsedMs();
+  }
+  input.gray->copyTo(previous_gray_);
+
+  FilterOutput out;
+  const std::vector<cv::KeyPoint>& keypoints = input.keypoints->keypoints;
+  out.keep.assign(keypoints.size(), true);
+  const cv::Mat& mask = current_.mask;
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const int x = std::clamp(static_cast<int>(keypoints[i].pt.x + 0.5f), 0, mask.cols - 1);
+    const int y = std::clamp(static_cast<int>(keypoints[i].pt.y + 0.5f), 0, mask.rows - 1);
+    if (!mask.empty() && mask.at<uint8_t>(y, x) != 0) out.keep[i] = false;
+  }
+  out.dynamic_mask = mask;
+  if (input.want_overlay) {
+    out.overlay = input.bgr->clone();
+    if (!mask.empty()) {
+      cv::Mat tint(out.overlay.size(), CV_8UC3, cv::Scalar(0, 0, 255));
+      cv::Mat blended;
+      cv::addWeighted(out.overlay, 0.6, tint, 0.4, 0.0, blended);
+      blended.copyTo(out.overlay, mask);
+    }
+    for (const DynamicObject& o : current_.objects) {
+      cv::rectangle(out.overlay, cv::Rect(o.detection.box),
+                    last_was_detection_ ? cv::Scalar(0, 255, 255) : cv::Scalar(255, 128, 0), 2);
+    }
+  }
+  return out;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,78 @@
+// SemanticFilter: the KeypointFilter of `dynorb run --mode semantic`. A MaskProvider (a DNN
+// detector by default) gives a-priori dynamic objects on scheduled frames; keypoints inside the
+// dynamic mask are rejected before description.
+//
+// Schedule (deterministic): the provider runs on frames with frame_id % detect_every == 0. On the
+// frames in between, each object's box is carried by the median pyramidal Lucas-Kanade flow of
+// points sampled in its mask (as NGD-SLAM carries masks between detections), then re-refined
+// with the current depth around the object's carried depth. Objects older than
+// max_carried_frames are dropped. Called from the tracking thread only.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dynorb/dynamic/detector_dnn.h"
+#include "dynorb/dynamic/keypoint_filter.h"
+#include "dynorb/dynamic/mask_provider.h"
+#include "dynorb/dynamic/mask_refine.h"
+
+namespace dynorb {
+
+// Default a-priori dynamic classes: person, vehicles and the COCO animals.
+std::vector<std::string> DefaultDynamicClasses();
+// Class ids of `model_names` that are in `wanted` (aliases: motorcycle=motorbike,
+// airplane=aeroplane, couch=sofa, tv=tvmonitor). A wanted name that is no COCO class is an
+// InputError naming it and listing the valid names.
+std::vector<bool> ResolveDynamicClasses(const std::vector<std::string>& wanted,
+                                        const std::vector<std::string>& model_names);
+
+struct SemanticOptions {
+  DetectorOptions detector;                               // model, models_dir, thresholds
+  std::vector<std::string> classes = DefaultDynamicClasses();  // a-priori dynamic classes
+  int detect_every = 1;         // run the provider on every Nth frame (>= 1), carry masks between
+  int max_carried_frames = 15;  // drop carried objects after this many frames without detection
+  DepthRefineOptions refine;    // box -> mask with depth
+  void Validate() const;
+};
+
+// Detector-backed provider: DnnDetector + class filter + depth refinement.
+class DetectorMaskProvider : public MaskProvider {
+ public:
+  DetectorMaskProvider(const SemanticOptions& options);
+  std::string name() const override { return "detector:" + detector_.spec().name; }
+  DynamicObjects Masks(const MaskQuery& query) override;
+  const DnnDetector& detector() const { return detector_; }
+
+ private:
+  SemanticOptions options_;
+  DnnDetector detector_;
+  std::vector<bool> dynamic_class_;
+};
+
+class SemanticFilter : public KeypointFilter {
+ public:
+  SemanticFilter(std::unique_ptr<MaskProvider> provider, const SemanticOptions& options);
+  std::string name() const override { return "semantic(" + provider_->name() + ")"; }
+  FilterOutput Filter(const FilterInput& input) override;
+
+  // Per-stage timing of the last frame.
+  double last_provider_ms() const { return provider_ms_; }
+  double last_propagation_ms() const { return propagation_ms_; }
+  bool last_was_detection() const { return last_was_detection_; }
+  const DynamicObjects& current() const { return current_; }
+
+ private:
+  DynamicObjects Carry(const cv::Mat& gray, const cv::Mat& depth_m);
+
+  std::unique_ptr<MaskProvider> provider_;
+  SemanticOptions options_;
+  DynamicObjects current_;
+  cv::Mat previous_gray_;
+  int frames_since_detection_ = 0;
+  double provider_ms_ = 0.0, propagation_ms_ = 0.0;
+  bool last_was_detection_ = false;
+};
+
+}  // namespace dynorb

@@ -1,0 +1,242 @@
+// Semantic mode: real detectors on real images (hand-checked person regions), box -> mask depth
+// refinement, the deterministic schedule and mask carrying, FileMaskProvider, bad input.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/dynamic/detector_dnn.h"
+#include "dynorb/dynamic/mask_file.h"
+#include "dynorb/dynamic/semantic_filter.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kShared = DYNORB_SHARED_DIR;
+const std::string kModels = kShared + "/models";
+const std::string kTumFrame = kShared + "/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0";
+
+// Best IoU of a person detection with `region`.
+float BestPersonIou(const DnnDetector& detector, const std::vector<Detection>& detections, const cv::Rect2f& region) {
+  float best = 0.f;
+  for (const Detection& d : detections) {
+    if (detector.class_names()[d.class_id] == "person") best = std::max(best, BoxIou(d.box, region));
+  }
+  return best;
+}
+
+TEST(SemanticDetector, EveryModelFindsThePeopleInRealImages) {
+  if (!fs::is_directory(kModels) || !fs::is_directory(kTumFrame)) GTEST_SKIP() << "no shared models/data at " << kShared;
+  const cv::Mat photo = cv::imread(kShared + "/data/images/person_dog_horse.jpg");
+  cv::Mat street = cv::imread(kShared + "/data/images/street.jpg");
+  cv::resize(street, street, {640, 480});
+  const cv::Mat tum = cv::imread(kTumFrame + "/rgb/1341846313.592026.png");
+  ASSERT_FALSE(photo.empty() || street.empty() || tum.empty());
+  for (const ModelSpec& spec : SupportedModels()) {
+    SCOPED_TRACE(spec.name);
+    DetectorOptions options;
+    options.model = spec.name;
+    options.models_dir = kModels;
+    DnnDetector detector(options);
+    // Hand-checked person boxes (x, y, w, h).
+    EXPECT_GT(BestPersonIou(detector, detector.Detect(photo), {186, 98, 88, 275}), 0.6f);
+    EXPECT_GT(BestPersonIou(detector, detector.Detect(street), {470, 235, 78, 192}), 0.6f);
+    const auto people = detector.Detect(tum);
+    EXPECT_GT(BestPersonIou(detector, people, {45, 130, 200, 340}), 0.6f) << "seated person (left)";
+    EXPECT_GT(BestPersonIou(detector, people, {460, 5, 178, 470}), 0.6f) << "standing person (right)";
+  }
+}
+
+TEST(SemanticDetector, RealTumFrameMaskKeepsTheBackgroundInsideTheBox) {
+  if (!fs::is_directory(kModels) || !fs::is_directory(kTumFrame)) GTEST_SKIP() << "no shared models/data at " << kShared;
+  const cv::Mat bgr = cv::imread(kTumFrame + "/rgb/1341846313.592026.png");
+  cv::Mat depth16 = cv::imread(kTumFrame + "/depth/1341846313.592088.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(depth16.type(), CV_16U);
+  cv::Mat depth;
+  depth16.convertTo(depth, CV_32F, 1.0 / 5000.0);
+  SemanticOptions options;
+  options.detector.models_dir = kModels;
+  DetectorMaskProvider provider(options);
+  const DynamicObjects objects = provider.Masks({0, 0.0, &bgr, &depth});
+  ASSERT_GE(objects.objects.size(), 2u);
+  // Torso of the standing person masked; the monitor behind the seated person's box right edge
+  // (inside the box, far behind) is not.
+  EXPECT_EQ(objects.mask.at<uint8_t>(200, 560), 255);
+  EXPECT_EQ(objects.mask.at<uint8_t>(250, 130), 255);
+  const double masked = cv::countNonZero(objects.mask) / static_cast<double>(bgr.total());
+  EXPECT_LT(masked, 0.45);
+}
+
+TEST(MaskRefine, PersonBoxOverFarWallKeepsTheWall) {
+  cv::Mat depth(120, 160, CV_32F, cv::Scalar(4.0f));  // wall at 4 m
+  depth(cv::Rect(60, 20, 40, 100)) = 1.5f;             // person at 1.5 m
+  depth(cv::Rect(70, 30, 3, 3)) = 0.f;                 // a hole in the person's depth
+  cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
+  DepthRefineOptions options;
+  options.dilation_px = 2;
+  const RefinedMask r = AddRefinedBoxMask({40, 10, 80, 110}, depth, options, 0.f, &mask);
+  EXPECT_TRUE(r.refined);
+  EXPECT_NEAR(r.depth_m, 1.5f, 1e-6);
+  EXPECT_EQ(mask.at<uint8_t>(60, 80), 255);  // person
+  EXPECT_EQ(mask.at<uint8_t>(31, 71), 255);  // hole closed
+  EXPECT_EQ(mask.at<uint8_t>(60, 58), 255);  // within the dilation
+  EXPECT_EQ(mask.at<uint8_t>(60, 45), 0);    // wall inside the box survives
+  EXPECT_EQ(mask.at<uint8_t>(15, 80), 0);
+  EXPECT_EQ(cv::countNonZero(mask(cv::Rect(0, 0, 30, 120))), 0);
+  // Without refinement the whole box is masked.
+  cv::Mat box_mask = cv::Mat::zeros(depth.size(), CV_8U);
+  options.enabled = false;
+  AddRefinedBoxMask({40, 10, 80, 110}, depth, options, 0.f, &box_mask);
+  EXPECT_EQ(box_mask.at<uint8_t>(60, 45), 255);
+}
+
+// A provider that reports a square at a known place and counts its calls.
+class SquareProvider : public MaskProvider {
+ public:
+  std::string name() const override { return "square"; }
+  DynamicObjects Masks(const MaskQuery& query) override {
+    calls.push_back(query.frame_id);
+    DynamicObjects out;
+    out.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
+    Detection d;
+    d.box = cv::Rect2f(static_cast<float>(x0 + speed * query.frame_id), 40.f, 40.f, 40.f);
+    d.class_id = 0;
+    const RefinedMask r = AddRefinedBoxMask(d.box, *query.depth_m, refine, 0.f, &out.mask);
+    out.objects.push_back({d, r.depth_m});
+    return out;
+  }
+  std::vector<FrameId> calls;
+  int x0 = 30, speed = 3;
+  DepthRefineOptions refine;
+};
+
+// Textured square moving right over a textured far background.
+void MakeFrame(int frame, cv::Mat* bgr, cv::Mat* gray, cv::Mat* depth) {
+  cv::Mat background(160, 240, CV_8U);
+  cv::Mat square(40, 40, CV_8U);
+  cv::RNG rng(1);
+  rng.fill(background, cv::RNG::UNIFORM, 0, 255);
+  rng.fill(square, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(background, background, {5, 5}, 1.5);
+  cv::GaussianBlur(square, square, {5, 5}, 1.5);
+  *depth = cv::Mat(160, 240, CV_32F, cv::Scalar(5.f));
+  const cv::Rect where(30 + 3 * frame, 40, 40, 40);
+  square.copyTo(background(where));
+  (*depth)(where) = 1.f;
+  *gray = background;
+  cv::cvtColor(background, *bgr, cv::COLOR_GRAY2BGR);
+}
+
+TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
+  auto provider = std::make_unique<SquareProvider>();
+  provider->refine.dilation_px = 0;
+  SquareProvider* raw = provider.get();
+  SemanticOptions options;
+  options.detect_every = 4;
+  options.refine.dilation_px = 0;
+  SemanticFilter filter(std::move(provider), options);
+  for (int frame = 0; frame < 10; ++frame) {
+    cv::Mat bgr, gray, depth;
+    MakeFrame(frame, &bgr, &gray, &depth);
+    KeypointSet set;
+    const int x = 30 + 3 * frame;
+    set.keypoints = {cv::KeyPoint(x + 20.f, 60.f, 7.f), cv::KeyPoint(x - 12.f, 60.f, 7.f),
+                     cv::KeyPoint(x + 38.f, 45.f, 7.f)};
+    FilterInput input;
+    input.frame_id = frame;
+    input.bgr = &bgr;
+    input.gray = &gray;
+    input.depth_m = &depth;
+    input.keypoints = &set;
+    const FilterOutput out = filter.Filter(input);
+    SCOPED_TRACE(frame);
+    EXPECT_EQ(filter.last_was_detection(), frame % 4 == 0);
+    EXPECT_FALSE(out.keep[0]);  // centre of the moving square, also between detections
+    EXPECT_TRUE(out.keep[1]);   // background left of it
+    EXPECT_FALSE(out.keep[2]);  // near its moving right edge
+  }
+  EXPECT_EQ(raw->calls, (std::vector<FrameId>{0, 4, 8}));
+}
+
+TEST(FileMaskProvider, BoxesAndMasksLists) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_semantic_test_files";
+  fs::create_directories(dir);
+  {
+    std::ofstream(dir / "boxes.txt") << "# ts x y w h class score\n1.0 10 10 20 20 0 0.9\n1.0 50 5 5 5\n2.0 0 0 8 8\n";
+    cv::Mat m = cv::Mat::zeros(40, 80, CV_8U);
+    m(cv::Rect(0, 0, 10, 10)) = 3;
+    cv::imwrite((dir / "m1.png").string(), m);
+    std::ofstream(dir / "masks.txt") << "1.0 m1.png\n";
+  }
+  const cv::Mat bgr(40, 80, CV_8UC3, cv::Scalar(0, 0, 0));
+  DepthRefineOptions refine;
+  refine.dilation_px = 0;
+  FileMaskProvider boxes((dir / "boxes.txt").string(), MaskFileKind::kBoxes, refine);
+  EXPECT_EQ(boxes.size(), 2u);
+  const DynamicObjects at1 = boxes.Masks({0, 1.001, &bgr, nullptr});
+  ASSERT_EQ(at1.objects.size(), 2u);
+  EXPECT_FLOAT_EQ(at1.objects[0].detection.score, 0.9f);
+  EXPECT_EQ(cv::countNonZero(at1.mask), 400 + 25);
+  EXPECT_EQ(cv::countNonZero(boxes.Masks({0, 1.5, &bgr, nullptr}).mask), 0);
+  FileMaskProvider masks((dir / "masks.txt").string(), MaskFileKind::kMasks, refine);
+  EXPECT_EQ(cv::countNonZero(masks.Masks({0, 1.0, &bgr, nullptr}).mask), 100);
+  // Bad input names the file and line.
+  std::ofstream(dir / "bad.txt") << "1.0 10 10 -5 5\n";
+  try {
+    FileMaskProvider bad((dir / "bad.txt").string(), MaskFileKind::kBoxes, refine);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.txt:1"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "missing.txt") << "1.0 nothere.png\n";
+  FileMaskProvider missing((dir / "missing.txt").string(), MaskFileKind::kMasks, refine);
+  EXPECT_THROW(missing.Masks({0, 1.0, &bgr, nullptr}), InputError);
+  EXPECT_THROW(FileMaskProvider((dir / "none.txt").string(), MaskFileKind::kMasks, refine), InputError);
+  fs::remove_all(dir);
+}
+
+void ExpectInputError(const DetectorOptions& options, const std::string& needle) {
+  try {
+    DnnDetector detector(options);
+    FAIL() << "no error for " << needle;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(SemanticDetector, BadModelFilesAndClassesAreClearErrors) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_semantic_test_models";
+  fs::remove_all(dir);
+  DetectorOptions options;
+  options.models_dir = dir.string();
+  ExpectInputError(options, "fetch_models.sh");
+  options.model = "yolo_v99";
+  EXPECT_THROW(options.Validate(), InputError);
+  EXPECT_THROW(ResolveDynamicClasses({"person", "pedestrian"}, CocoClassNames()), InputError);
+  EXPECT_EQ(ResolveDynamicClasses({"motorcycle"}, CocoClassNames())[3], true);
+  if (!fs::is_directory(kModels)) GTEST_SKIP() << "no shared models at " << kShared;
+  // cfg/weights mismatch: the body cfg with the COCO weights.
+  fs::create_directories(dir / "yolo_fastest_1.1_body");
+  fs::copy_file(kModels + "/yolo_fastest_1.1_body/yolo-fastest-1.1_body.cfg",
+                dir / "yolo_fastest_1.1_body/yolo-fastest-1.1_body.cfg");
+  fs::copy_file(kModels + "/yolo_fastest_1.1/yolo-fastest-1.1.weights",
+                dir / "yolo_fastest_1.1_body/yolo-fastest-1.1_body.weights");
+  fs::copy_file(kModels + "/yolo_fastest_1.1_body/body.names", dir / "yolo_fastest_1.1_body/body.names");
+  options.model = "yolo_fastest_1.1_body";
+  ExpectInputError(options, "cfg/weights mismatch");
+  // Corrupt ONNX.
+  fs::create_directories(dir / "fastestdet");
+  std::ofstream(dir / "fastestdet/FastestDet.onnx") << "not an onnx file";
+  fs::copy_file(kModels + "/fastestdet/coco.names", dir / "fastestdet/coco.names");
+  options.model = "fastestdet";
+  ExpectInputError(options, "FastestDet.onnx");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dynorb
