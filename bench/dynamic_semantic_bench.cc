@@ -1,0 +1,56 @@
+// Semantic mode: ms per inference of each detector (OpenCV DNN, CPU) on the real TUM frame,
+// plus the box -> depth-mask refinement. Needs the models in ../shared/models (skipped otherwise).
+#include <filesystem>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "dynorb/dynamic/detector_dnn.h"
+#include "dynorb/dynamic/mask_refine.h"
+
+namespace dynorb {
+namespace {
+
+const std::string kShared = std::string(DYNORB_SOURCE_DIR) + "/../shared";
+const std::string kFrame = kShared + "/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0";
+
+void BM_Detector(benchmark::State& state, const std::string& model) {
+  const cv::Mat bgr = cv::imread(kFrame + "/rgb/1341846313.592026.png");
+  if (bgr.empty() || !std::filesystem::is_directory(kShared + "/models/" + model)) {
+    state.SkipWithError("shared models/data not found");
+    return;
+  }
+  DetectorOptions options;
+  options.model = model;
+  options.models_dir = kShared + "/models";
+  DnnDetector detector(options);
+  double inference_ms = 0.0;
+  size_t found = 0;
+  for (auto _ : state) {
+    found = detector.Detect(bgr).size();
+    inference_ms += detector.last_timing().inference_ms;
+  }
+  state.counters["inference_ms"] = inference_ms / static_cast<double>(state.iterations());
+  state.counters["detections"] = static_cast<double>(found);
+}
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1, std::string("yolo_fastest_1.1"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_xl, std::string("yolo_fastest_1.1_xl"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_body, std::string("yolo_fastest_1.1_body"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, yolox_nano, std::string("yolox_nano"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, fastestdet, std::string("fastestdet"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, nanodet_m_320, std::string("nanodet_m_320"))->Unit(benchmark::kMillisecond);
+
+void BM_DepthRefine(benchmark::State& state) {
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(4.f));
+  depth(cv::Rect(250, 100, 120, 380)) = 1.5f;
+  DepthRefineOptions options;
+  cv::Mat mask(480, 640, CV_8U);
+  for (auto _ : state) {
+    mask.setTo(0);
+    benchmark::DoNotOptimize(AddRefinedBoxMask({200, 80, 220, 400}, depth, options, 0.f, &mask));
+  }
+}
+BENCHMARK(BM_DepthRefine)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace dynorb
