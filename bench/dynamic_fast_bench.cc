@@ -1,0 +1,132 @@
+// FAST dynamic mode: per-frame cost of FastFilter::Filter and its keypoint precision/recall on a
+// short synthetic walking_xyz clip rendered in memory (frames 100-119, seed 7), for both
+// correspondence methods (LK optical flow vs brute-force descriptor matching) and with single
+// stages switched off. Counters: ms_per_frame (filter only), per-stage ms, precision, recall.
+//   build/<dir>/bench/dynorb_microbench --benchmark_filter=FastFilter
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/dynamic/fast_filter.h"
+#include "dynorb/synth/synthesizer.h"
+
+namespace dynorb {
+namespace {
+
+struct Clip {
+  PinholeCamera camera;
+  std::vector<cv::Mat> bgr, gray, depth, mask;
+  std::vector<Rigid3d> world_from_cam;
+  std::vector<KeypointSet> keypoints;
+};
+
+const Clip& GetClip() {
+  static const Clip clip = [] {
+    synth::SynthOptions o;
+    o.preset = "walking_xyz";
+    o.seed = 7;
+    o.frames = 150;
+    synth::SequenceSynth synth(o);
+    auto renderer = synth.MakeRenderer();
+    Clip c;
+    c.camera = synth.camera();
+    const OrbExtractor extractor;
+    for (int i = 100; i < 120; ++i) {
+      const synth::SynthFrame f = synth.RenderFrame(i, renderer.get());
+      cv::Mat gray, depth;
+      cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
+      f.depth_u16.convertTo(depth, CV_32F, 1.0 / 5000.0);
+      c.bgr.push_back(f.rgb);
+      c.gray.push_back(gray);
+      c.depth.push_back(depth);
+      c.mask.push_back(f.mask);
+      c.world_from_cam.push_back(f.world_from_cam);
+      c.keypoints.push_back(extractor.Detect(gray));
+    }
+    return c;
+  }();
+  return clip;
+}
+
+void RunFast(benchmark::State& state, FastOptions options) {
+  const Clip& clip = GetClip();
+  long long tp = 0, fp = 0, fn = 0;
+  FastTiming stages;
+  int frames = 0;
+  for (auto _ : state) {
+    FastFilter filter(options, clip.camera);
+    for (size_t i = 0; i < clip.gray.size(); ++i) {
+      FilterInput input;
+      input.bgr = &clip.bgr[i];
+      input.gray = &clip.gray[i];
+      input.depth_m = &clip.depth[i];
+      input.keypoints = &clip.keypoints[i];
+      if (i >= 2) input.predicted_cam_from_previous_cam = clip.world_from_cam[i - 1].Inverse() * clip.world_from_cam[i - 2];
+      const FilterOutput out = filter.Filter(input);
+      benchmark::DoNotOptimize(out.keep.data());
+      if (i == 0) continue;
+      const auto& kps = clip.keypoints[i].keypoints;
+      for (size_t k = 0; k < kps.size(); ++k) {
+        const cv::Point p(std::clamp(static_cast<int>(std::lround(kps[k].pt.x)), 0, clip.mask[i].cols - 1),
+                          std::clamp(static_cast<int>(std::lround(kps[k].pt.y)), 0, clip.mask[i].rows - 1));
+        const bool truth = clip.mask[i].at<uint8_t>(p) != 0, removed = !out.keep[k];
+        tp += truth && removed;
+        fp += !truth && removed;
+        fn += truth && !removed;
+      }
+    }
+    stages += filter.total_timing();
+    frames += filter.frames();
+  }
+  const double f = std::max(1, frames);
+  state.counters["ms_per_frame"] = stages.total_ms / f;
+  state.counters["flow_ms"] = stages.flow_ms / f;
+  state.counters["ego_ms"] = stages.ego_ms / f;
+  state.counters["F_ms"] = stages.fundamental_ms / f;
+  state.counters["cues_ms"] = stages.cues_ms / f;
+  state.counters["region_ms"] = stages.region_ms / f;
+  state.counters["precision"] = tp + fp > 0 ? static_cast<double>(tp) / (tp + fp) : 0.0;
+  state.counters["recall"] = tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 0.0;
+}
+
+void BM_FastFilter_Flow(benchmark::State& state) { RunFast(state, FastOptions()); }
+void BM_FastFilter_Descriptors(benchmark::State& state) {
+  FastOptions o;
+  o.correspondences = "descriptors";
+  RunFast(state, o);
+}
+// The seed report's cues only (F-RANSAC epipolar, direction, magnitude; no depth, no regions).
+void BM_FastFilter_ReportCuesOnly_Flow(benchmark::State& state) {
+  FastOptions o;
+  o.use_residual = o.use_depth = o.use_region = false;
+  o.suspect_frames = 0;
+  o.track_min_moving = 99;
+  RunFast(state, o);
+}
+void BM_FastFilter_ReportCuesOnly_Descriptors(benchmark::State& state) {
+  FastOptions o;
+  o.correspondences = "descriptors";
+  o.use_residual = o.use_depth = o.use_region = false;
+  o.suspect_frames = 0;
+  o.track_min_moving = 99;
+  RunFast(state, o);
+}
+void BM_FastFilter_NoRegion(benchmark::State& state) {
+  FastOptions o;
+  o.use_region = false;
+  RunFast(state, o);
+}
+
+BENCHMARK(BM_FastFilter_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_FastFilter_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_FastFilter_ReportCuesOnly_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_FastFilter_ReportCuesOnly_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_FastFilter_NoRegion)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+}  // namespace
+}  // namespace dynorb

@@ -1,0 +1,79 @@
+#include "dynorb/dynamic/fast_correspondence.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/video/tracking.hpp>
+
+#include "dynorb/features/orb_matcher.h"
+
+namespace dynorb {
+
+std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& options) {
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(gray, pyramid, cv::Size(options.window_px, options.window_px), options.levels, true);
+  return pyramid;
+}
+
+Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
+                              const std::vector<cv::Point2f>& current, const std::vector<cv::Point2f>& initial_previous,
+                              const LkOptions& options) {
+  Correspondences c;
+  const size_t n = current.size();
+  c.valid.assign(n, 0);
+  c.for_f.assign(n, 0);
+  c.previous = initial_previous.size() == n ? initial_previous : current;
+  if (n == 0) return c;
+  const cv::Size window(options.window_px, options.window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  std::vector<uint8_t> status, back_status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, c.previous, status, error, window,
+                           options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  std::vector<cv::Point2f> back = current;
+  cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status, error, window,
+                           options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const cv::Size size = current_pyramid.empty() ? cv::Size() : current_pyramid[0].size();
+  const double max2 = options.fb_max_px * options.fb_max_px;
+  for (size_t i = 0; i < n; ++i) {
+    if (!status[i] || !back_status[i]) continue;
+    const cv::Point2f d = back[i] - current[i];
+    if (d.x * d.x + d.y * d.y > max2) continue;
+    const cv::Point2f& p = c.previous[i];
+    if (p.x < 0 || p.y < 0 || p.x > size.width - 1 || p.y > size.height - 1) continue;
+    c.valid[i] = 1;
+    c.for_f[i] = 1;
+    ++c.num_valid;
+  }
+  return c;
+}
+
+Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
+                                 const std::vector<cv::Point2f>& previous_points, int max_distance,
+                                 double best_fraction) {
+  Correspondences c;
+  const size_t n = static_cast<size_t>(current_descriptors.rows);
+  c.valid.assign(n, 0);
+  c.for_f.assign(n, 0);
+  c.previous.assign(n, cv::Point2f(0.f, 0.f));
+  if (n == 0 || previous_descriptors.rows == 0) return c;
+  BruteForceMatchOptions options;
+  options.max_distance = max_distance;
+  options.max_ratio = 1.0;
+  options.mutual_check = true;
+  std::vector<DescriptorMatch> matches = MatchBruteForce(current_descriptors, previous_descriptors, options);
+  for (const DescriptorMatch& m : matches) {
+    c.valid[m.query_index] = 1;
+    c.previous[m.query_index] = previous_points[m.train_index];
+    ++c.num_valid;
+  }
+  // Best fraction by distance (ties by index: deterministic) for F.
+  std::stable_sort(matches.begin(), matches.end(),
+                   [](const DescriptorMatch& a, const DescriptorMatch& b) { return a.distance < b.distance; });
+  const size_t keep = std::max<size_t>(std::min<size_t>(matches.size(), 8),
+                                       static_cast<size_t>(std::ceil(best_fraction * matches.size())));
+  for (size_t i = 0; i < keep; ++i) c.for_f[matches[i].query_index] = 1;
+  return c;
+}
+
+}  // namespace dynorb

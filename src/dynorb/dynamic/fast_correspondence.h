@@ -1,0 +1,46 @@
+// Correspondences between the previous and the current frame for the FAST dynamic mode, one
+// entry per CURRENT keypoint (its position in the previous frame):
+//  a. TrackWithFlow: pyramidal Lucas–Kanade (OpenCV) from the current keypoints into the previous
+//     frame, optionally seeded with a predicted position, kept when the backward track returns
+//     within fb_max_px of the start (forward–backward check).
+//  b. MatchDescriptors: brute-force Hamming matching of the current ORB descriptors against the
+//     previous ones (mutual best, no ratio test); all matches are correspondences, and the best
+//     `best_fraction` by distance are marked for estimating F.
+// Pure functions; thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace dynorb {
+
+struct Correspondences {
+  std::vector<cv::Point2f> previous;  // position in the previous frame, per current keypoint
+  std::vector<uint8_t> valid;         // 1 = tracked / matched
+  std::vector<uint8_t> for_f;         // 1 = used to estimate the fundamental matrix
+  int num_valid = 0;
+};
+
+struct LkOptions {
+  int window_px = 21;
+  int levels = 3;
+  int iterations = 20;
+  double fb_max_px = 1.0;
+};
+
+// The LK image pyramid (with derivatives) of one frame; built once per frame and reused as the
+// "previous" pyramid of the next frame.
+std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& options);
+
+// initial_previous: a guess of each point's previous position (empty: the current position).
+Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
+                              const std::vector<cv::Point2f>& current, const std::vector<cv::Point2f>& initial_previous,
+                              const LkOptions& options);
+
+Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
+                                 const std::vector<cv::Point2f>& previous_points, int max_distance,
+                                 double best_fraction);
+
+}  // namespace dynorb

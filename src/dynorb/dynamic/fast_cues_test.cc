@@ -1,0 +1,256 @@
+// The FAST mode's cues on constructed data: a known F with injected moving points, flow fields
+// with an independent mover, the rigid-warp residual and ego-motion under pure rotation and with a
+// mover covering most of the image, region growing on a constructed depth map.
+#include "dynorb/dynamic/fast_cues.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "dynorb/dynamic/fast_region.h"
+#include "dynorb/dynamic/motion_ego.h"
+
+namespace dynorb {
+namespace {
+
+PinholeCamera Camera() {
+  PinholeCamera c;
+  c.fx = c.fy = 525.0;
+  c.cx = 319.5;
+  c.cy = 239.5;
+  c.width = 640;
+  c.height = 480;
+  return c;
+}
+
+Eigen::Matrix3d Fundamental(const PinholeCamera& camera, const Rigid3d& cur_from_prev) {
+  const Eigen::Vector3d& t = cur_from_prev.translation;
+  Eigen::Matrix3d skew;
+  skew << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
+  const Eigen::Matrix3d k_inv = camera.K().inverse();
+  return k_inv.transpose() * skew * cur_from_prev.rotation.toRotationMatrix() * k_inv;
+}
+
+// A static scene seen from two poses: points p1 (previous) and p2 (current), depth of p2.
+struct TwoViews {
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<float> z2;
+  std::vector<uint8_t> valid;
+};
+
+TwoViews MakeStatic(const PinholeCamera& camera, const Rigid3d& cur_from_prev, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(20.0, 620.0), v(20.0, 460.0), d(1.5, 5.0);
+  TwoViews views;
+  while (static_cast<int>(views.p1.size()) < n) {
+    const Eigen::Vector3d x_prev = camera.Unproject(Eigen::Vector2d(u(rng), v(rng)), d(rng));
+    const Eigen::Vector3d x_cur = cur_from_prev * x_prev;
+    const Eigen::Vector2d a = camera.Project(x_prev), b = camera.Project(x_cur);
+    if (!camera.InImage(b)) continue;
+    views.p1.emplace_back(a.x(), a.y());
+    views.p2.emplace_back(b.x(), b.y());
+    views.z2.push_back(static_cast<float>(x_cur.z()));
+    views.valid.push_back(1);
+  }
+  return views;
+}
+
+const Rigid3d kMotion(Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.2, 1.0, 0.1).normalized())),
+                      Eigen::Vector3d(0.04, -0.01, 0.02));
+
+TEST(EpipolarCue, KnownFundamentalWithInjectedMovers) {
+  const PinholeCamera camera = Camera();
+  TwoViews v = MakeStatic(camera, kMotion, 200, 1);
+  const Eigen::Matrix3d f = Fundamental(camera, kMotion);
+  // Movers: shift 40 points by 6 px perpendicular to their epipolar line; 10 gross mismatches.
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Vector3d line = f * Eigen::Vector3d(v.p1[i].x, v.p1[i].y, 1.0);
+    const Eigen::Vector2d normal = line.head<2>().normalized();
+    const double shift = i < 40 ? 6.0 : 80.0;
+    v.p2[i] += cv::Point2f(static_cast<float>(shift * normal.x()), static_cast<float>(shift * normal.y()));
+    EXPECT_NEAR(EpipolarLineDistance(f, v.p1[i], v.p2[i]), shift, 1e-3);
+  }
+  v.valid[199] = 0;
+  const std::vector<CueVote> votes = EpipolarCue(f, v.p1, v.p2, v.valid, 1.5, 30.0);
+  for (int i = 0; i < 200; ++i) {
+    const CueVote expected = i == 199  ? CueVote::kUnknown
+                             : i < 40  ? CueVote::kMoving
+                             : i < 50  ? CueVote::kMismatch
+                                       : CueVote::kStatic;
+    EXPECT_EQ(static_cast<int>(votes[i]), static_cast<int>(expected)) << i;
+  }
+}
+
+// Uniform camera flow with an independent mover in one corner.
+TEST(DirectionCue, IndependentMoverInUniformFlow) {
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid, ref;
+  for (int y = 10; y < 480; y += 20) {
+    for (int x = 10; x < 640; x += 20) {
+      const bool mover = x > 400 && y > 300;
+      const cv::Point2f flow = mover ? cv::Point2f(0.f, 5.f) : cv::Point2f(4.f, 0.5f);
+      p2.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      p1.push_back(p2.back() - flow);
+      valid.push_back(1);
+      ref.push_back(mover ? 0 : 1);  // static inliers (as F-RANSAC would give)
+    }
+  }
+  const std::vector<CueVote> votes = DirectionCue(p1, p2, valid, ref, 30.0, 1.0);
+  for (size_t i = 0; i < votes.size(); ++i) {
+    const bool mover = p2[i].x > 400 && p2[i].y > 300;
+    EXPECT_EQ(static_cast<int>(votes[i]), static_cast<int>(mover ? CueVote::kMoving : CueVote::kStatic)) << i;
+  }
+  // Flows too short to have a direction give no vote.
+  const std::vector<CueVote> none = DirectionCue(p2, p2, valid, ref, 30.0, 1.0);
+  for (CueVote v : none) EXPECT_EQ(static_cast<int>(v), static_cast<int>(CueVote::kUnknown));
+}
+
+TEST(MagnitudeCue, OutliersBeyondTwoSigmaAndSmallSigmaFallback) {
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.f, 0.3f);
+  for (int i = 0; i < 300; ++i) {
+    const float m = i < 15 ? 14.f : 5.f + noise(rng);
+    p2.emplace_back(100.f + i, 200.f);
+    p1.push_back(p2.back() - cv::Point2f(m, 0.f));
+    valid.push_back(1);
+  }
+  MagnitudeStats stats;
+  const std::vector<CueVote> votes = MagnitudeCue(p1, p2, valid, 2.0, 0.5, 2.0, &stats);
+  EXPECT_GT(stats.sigma_px, 0.5);
+  for (int i = 0; i < 15; ++i) EXPECT_EQ(static_cast<int>(votes[i]), static_cast<int>(CueVote::kMoving)) << i;
+  int false_moving = 0;
+  for (int i = 15; i < 300; ++i) false_moving += votes[i] == CueVote::kMoving;
+  EXPECT_LE(false_moving, 15);  // ~5 % of a normal sample beyond 2 sigma at most
+  // No camera motion: sigma 0 -> the plain difference decides; one point moves 3 px.
+  std::vector<cv::Point2f> q1 = p2;
+  q1[7] += cv::Point2f(3.f, 0.f);
+  const std::vector<CueVote> still = MagnitudeCue(q1, p2, valid, 2.0, 0.5, 2.0, &stats);
+  EXPECT_LT(stats.sigma_px, 0.5);
+  for (int i = 0; i < 300; ++i) {
+    EXPECT_EQ(static_cast<int>(still[i]), static_cast<int>(i == 7 ? CueVote::kMoving : CueVote::kStatic)) << i;
+  }
+}
+
+// Dense depth map of a static scene rendered in the current camera: a plane at depth z.
+cv::Mat PlaneDepth(float z) { return cv::Mat(480, 640, CV_32F, cv::Scalar(z)); }
+
+// Pure rotation (no parallax: F is degenerate) with a mover covering 55 % of the points: the
+// prediction-seeded ego-motion recovers the rotation and the residual flags exactly the mover.
+TEST(WarpResidual, PureRotationAndDominantMover) {
+  const PinholeCamera camera = Camera();
+  const Rigid3d cur_from_prev(Eigen::Quaterniond(Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY())),
+                              Eigen::Vector3d::Zero());
+  const Rigid3d prev_from_cur = cur_from_prev.Inverse();
+  const cv::Mat depth = PlaneDepth(3.f);
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid;
+  std::vector<bool> mover;
+  for (int y = 12; y < 470; y += 16) {
+    for (int x = 12; x < 630; x += 16) {
+      const cv::Point2f cur(static_cast<float>(x), static_cast<float>(y));
+      cv::Point2f prev = WarpToPrevious(camera, prev_from_cur, cur, 3.0);
+      const bool m = x < 340;  // ~55 % of the image
+      if (m) prev += cv::Point2f(-6.f, 2.f);  // the mover's own motion
+      if (!camera.InImage(Eigen::Vector2d(prev.x, prev.y))) continue;
+      p1.push_back(prev);
+      p2.push_back(cur);
+      valid.push_back(1);
+      mover.push_back(m);
+    }
+  }
+  // A prediction that is off by 0.3 degrees.
+  const Rigid3d predicted =
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX())), Eigen::Vector3d::Zero()) *
+      prev_from_cur;
+  const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {predicted}, EgoMotionOptions());
+  ASSERT_TRUE(ego.ok);
+  EXPECT_LT(RotationAngleRad(ego.prev_from_cur.rotation * prev_from_cur.rotation.conjugate()), 1e-3);
+  EXPECT_LT(ego.prev_from_cur.translation.norm(), 0.01);
+  const WarpResidualResult r =
+      WarpResidualCue(camera, ego.prev_from_cur, p1, p2, valid, depth, cv::Mat(), WarpResidualOptions());
+  for (size_t i = 0; i < p1.size(); ++i) {
+    EXPECT_EQ(static_cast<int>(r.residual[i]), static_cast<int>(mover[i] ? CueVote::kMoving : CueVote::kStatic))
+        << i;
+  }
+  // Without a prediction the majority (the mover) would win: PnP-RANSAC locks onto it.
+  const EgoMotionResult blind = EstimateEgoMotion(camera, p1, p2, valid, depth, {}, EgoMotionOptions());
+  ASSERT_TRUE(blind.ok);
+  EXPECT_GT(RotationAngleRad(blind.prev_from_cur.rotation * prev_from_cur.rotation.conjugate()) +
+                (blind.prev_from_cur.translation - prev_from_cur.translation).norm(),
+            1e-3);
+}
+
+TEST(WarpResidual, NoMotionAndDepthChange) {
+  const PinholeCamera camera = Camera();
+  const cv::Mat depth = PlaneDepth(2.f);
+  cv::Mat depth_prev = depth.clone();
+  depth_prev(cv::Rect(300, 200, 60, 60)).setTo(2.4f);  // something moved towards the camera there
+  std::vector<cv::Point2f> p;
+  std::vector<uint8_t> valid;
+  for (int y = 20; y < 470; y += 20)
+    for (int x = 20; x < 630; x += 20) p.emplace_back(static_cast<float>(x), static_cast<float>(y)), valid.push_back(1);
+  const WarpResidualResult r = WarpResidualCue(camera, Rigid3d(), p, p, valid, depth, depth_prev, WarpResidualOptions());
+  for (size_t i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(static_cast<int>(r.residual[i]), static_cast<int>(CueVote::kStatic));
+    const bool inside = p[i].x >= 302 && p[i].x <= 357 && p[i].y >= 202 && p[i].y <= 257;
+    EXPECT_EQ(static_cast<int>(r.depth[i]), static_cast<int>(inside ? CueVote::kMoving : CueVote::kStatic)) << p[i];
+  }
+}
+
+// Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
+TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
+  cv::Mat depth = PlaneDepth(3.f);
+  const cv::Rect person(200, 100, 120, 300);
+  depth(person).setTo(1.5f);
+  depth(cv::Rect(250, 150, 4, 4)).setTo(0.f);  // a hole
+  const RegionOptions options;
+  const cv::Mat low = DownsampleDepth(depth, options.scale, options.max_depth_m);
+  const std::vector<RegionPoint> seeds = {{{230.f, 150.f}, 1.5f, {3.f, 0.f}}, {{280.f, 300.f}, 1.5f, {3.f, 1.f}}};
+  const std::vector<RegionPoint> statics = {{{100.f, 100.f}, 0.f, {}}, {{500.f, 400.f}, 0.f, {}}};
+  const RegionResult r = GrowRegions(low, depth.size(), seeds, statics, cv::Mat(), options);
+  ASSERT_EQ(r.num_accepted, 1);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) {
+      if (!r.mask.at<uint8_t>(y, x)) continue;
+      (person.contains({x, y}) ? inside : outside)++;
+    }
+  }
+  EXPECT_GT(inside, 0.97 * person.area());
+  EXPECT_LT(outside, 2 * options.dilate_px * (person.width + person.height) + 1000);
+  // One seed is not enough; a region full of static points is rejected.
+  EXPECT_EQ(GrowRegions(low, depth.size(), {seeds[0]}, statics, cv::Mat(), options).num_accepted, 0);
+  std::vector<RegionPoint> many_static;
+  for (int i = 0; i < 30; ++i) many_static.push_back({{210.f + 3 * i, 200.f}, 0.f, {}});
+  // Seeds moving in opposite directions are noise, not a mover.
+  const std::vector<RegionPoint> incoherent = {{{230.f, 150.f}, 1.5f, {3.f, 0.f}}, {{280.f, 300.f}, 1.5f, {-3.f, 0.f}}};
+  EXPECT_EQ(GrowRegions(low, depth.size(), incoherent, statics, cv::Mat(), options).num_accepted, 0);
+  EXPECT_EQ(GrowRegions(low, depth.size(), seeds, many_static, cv::Mat(), options).num_accepted, 0);
+  // A single seed is enough where the suspect map says something moved recently.
+  cv::Mat suspect = cv::Mat::zeros(low.size(), CV_8U);
+  suspect(cv::Rect(50, 25, 30, 75)).setTo(255);
+  EXPECT_EQ(GrowRegions(low, depth.size(), {seeds[0]}, statics, suspect, options).num_accepted, 1);
+}
+
+TEST(Suspect, PropagatesWhereDepthMatchesAndExpires) {
+  const PinholeCamera camera = Camera();
+  const int s = 4;
+  cv::Mat low(120, 160, CV_32F, cv::Scalar(2.f));
+  cv::Mat mask = cv::Mat::zeros(low.size(), CV_8U);
+  mask(cv::Rect(40, 40, 20, 20)).setTo(255);
+  SuspectMap map;
+  AddToSuspect(mask, low, &map);
+  SuspectMap next = PropagateSuspect(map, low, camera, s, Rigid3d(), 3, 0.2);
+  EXPECT_EQ(cv::countNonZero(next.Suspect(3)), 400);
+  // The mover left: the background behind (4 m) is not suspect.
+  cv::Mat revealed(low.size(), CV_32F, cv::Scalar(4.f));
+  EXPECT_EQ(cv::countNonZero(PropagateSuspect(map, revealed, camera, s, Rigid3d(), 3, 0.2).Suspect(3)), 0);
+  for (int i = 0; i < 3; ++i) next = PropagateSuspect(next, low, camera, s, Rigid3d(), 3, 0.2);
+  EXPECT_EQ(cv::countNonZero(next.Suspect(3)), 0);
+}
+
+}  // namespace
+}  // namespace dynorb

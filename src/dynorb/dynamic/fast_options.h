@@ -1,0 +1,79 @@
+// FastOptions: every switch and threshold of the FAST dynamic mode (`dynorb run --mode fast`,
+// YAML section `fast:`, docs/fast_mode.md). Defaults in the declaration; Validate() throws
+// InputError. Value type.
+#pragma once
+
+#include <string>
+
+namespace dynorb {
+
+enum class CorrespondenceMethod { kOpticalFlow, kDescriptors };
+
+struct FastOptions {
+  // --- 1. Correspondences between the previous and the current frame.
+  std::string correspondences = "flow";  // "flow" (pyramidal LK) or "descriptors" (BF Hamming)
+  int lk_window_px = 21;                 // LK window side (px)
+  int lk_levels = 3;                     // LK pyramid levels above the base image
+  int lk_iterations = 20;                // LK iterations per level
+  double lk_fb_max_px = 1.0;             // forward-backward check: max return error (px)
+  bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
+  double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
+  int bf_max_distance = 80;              // descriptors: max Hamming distance of a match
+  // --- 2./3. Fundamental matrix (RANSAC) and epipolar distance.
+  bool use_epipolar = true;          // epipolar cue on/off
+  double f_ransac_px = 1.0;          // RANSAC inlier threshold for F (px)
+  double f_confidence = 0.99;        // RANSAC confidence
+  double epi_t1_px = 1.5;            // d <= t1: static
+  double epi_t2_px = 30.0;           // d >= t2: mismatch (no evidence); t1 < d < t2: moving
+  bool check_f_with_prediction = true;  // reject an F that disagrees with the ego-motion
+  // --- 4. Flow direction vs the nearest static inlier.
+  bool use_direction = true;          // direction cue on/off
+  double direction_max_deg = 30.0;    // angle difference above this: moving
+  double direction_min_flow_px = 2.0; // both flows must be at least this long to compare
+  // --- 5. Flow-magnitude statistics.
+  bool use_magnitude = true;          // magnitude cue on/off
+  double magnitude_sigmas = 2.0;      // |m - mean| > k sigma: moving
+  double magnitude_min_sigma_px = 0.5;  // below this sigma use the plain difference instead
+  double magnitude_abs_diff_px = 2.0;   // plain difference from the mean that means moving
+  // --- Beyond the report: rigid-warp residual against the (refined) camera motion.
+  bool use_residual = true;           // ego-motion residual cue on/off
+  bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
+  double residual_px = 1.2;           // reprojection residual above this: moving
+  double residual_rel = 0.05;         // ... plus this fraction of the flow length
+  bool use_depth = true;              // depth-consistency cue on/off
+  double depth_abs_m = 0.03;          // depth change tolerance: abs + rel * z^2
+  double depth_rel = 0.01;            // (Kinect-like noise grows with z^2)
+  double max_depth_m = 8.0;           // ignore depth beyond this
+  // --- Fusion of the cues into moving seeds.
+  double weight_residual = 1.0;       // vote weights of each cue
+  double weight_depth = 1.0;
+  double weight_epipolar = 0.5;
+  double weight_direction = 0.5;
+  double weight_magnitude = 0.5;
+  double seed_score = 1.0;            // a keypoint with score >= this is a moving seed
+  // --- Region growing on depth.
+  bool use_region = true;             // grow seeds into depth segments
+  int region_scale = 4;               // region grid: 1/region_scale resolution
+  double region_edge_abs_m = 0.04;    // neighbour depth step allowed: abs + rel * z
+  double region_edge_rel = 0.03;
+  double region_band_m = 0.3;         // max depth distance from the seed's depth
+  int region_min_seeds = 2;           // seeds needed (1 when supported by the suspect map)
+  double region_max_static_ratio = 0.75;  // max static/(static+moving) tracked points in a region
+  double region_min_coherence = 0.6;  // seeds of a region must move alike (|mean m| / mean |m|)
+  double region_max_area = 0.8;       // max region area as a fraction of the image
+  int region_dilate_px = 6;           // dilation of the final mask (full-resolution px)
+  // --- Temporal propagation.
+  int suspect_frames = 5;             // a dynamic region stays suspect for this many frames
+  double suspect_depth_m = 0.2;       // ... where the depth still matches the region's depth
+  int track_history = 8;              // keypoint-track memory (frames)
+  int track_min_moving = 3;           // a track seen moving this often (in history) is excluded
+  uint64_t seed = 0;                  // RNG seed for RANSAC (cv::setRNGSeed)
+
+  CorrespondenceMethod method() const {
+    return correspondences == "descriptors" ? CorrespondenceMethod::kDescriptors
+                                            : CorrespondenceMethod::kOpticalFlow;
+  }
+  void Validate() const;  // throws InputError
+};
+
+}  // namespace dynorb

@@ -1,0 +1,185 @@
+#include "dynorb/dynamic/fast_region.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/dynamic/fast_cues.h"
+
+namespace dynorb {
+namespace {
+
+cv::Point LowPixel(const cv::Point2f& p, int scale, cv::Size size) {
+  return {std::clamp(static_cast<int>(std::lround((p.x + 0.5f) / scale - 0.5f)), 0, size.width - 1),
+          std::clamp(static_cast<int>(std::lround((p.y + 0.5f) / scale - 0.5f)), 0, size.height - 1)};
+}
+
+}  // namespace
+
+cv::Mat DownsampleDepth(const cv::Mat& depth_m, int scale, float max_depth_m) {
+  const int s = scale;
+  cv::Mat low((depth_m.rows + s - 1) / s, (depth_m.cols + s - 1) / s, CV_32F);
+  for (int y = 0; y < low.rows; ++y) {
+    const float* row = depth_m.ptr<float>(std::min(depth_m.rows - 1, y * s + s / 2));
+    float* out = low.ptr<float>(y);
+    for (int x = 0; x < low.cols; ++x) {
+      const float z = row[std::min(depth_m.cols - 1, x * s + s / 2)];
+      out[x] = (z > 0.f && z <= max_depth_m) ? z : 0.f;
+    }
+  }
+  return low;
+}
+
+RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vector<RegionPoint>& seeds,
+                         const std::vector<RegionPoint>& statics, const cv::Mat& suspect_low,
+                         const RegionOptions& options) {
+  RegionResult result;
+  const int s = options.scale;
+  const cv::Size low_size = low.size();
+  cv::Mat labels(low_size, CV_32S, cv::Scalar(-1));
+  struct Region {
+    int seeds = 0, statics = 0, area = 0;
+    bool suspect = false;
+    cv::Point2f motion_sum{0.f, 0.f};
+    float motion_norm_sum = 0.f;
+  };
+  std::vector<Region> regions;
+  std::vector<cv::Point> queue;
+  for (const RegionPoint& seed : seeds) {
+    if (seed.depth_m <= 0.f) continue;
+    const cv::Point c = LowPixel(seed.pixel, s, low_size);
+    // Start at the 3×3 low-resolution pixel whose depth is closest to the seed's.
+    cv::Point start(-1, -1);
+    float best = static_cast<float>(options.band_m);
+    for (int y = std::max(0, c.y - 1); y <= std::min(low_size.height - 1, c.y + 1); ++y) {
+      for (int x = std::max(0, c.x - 1); x <= std::min(low_size.width - 1, c.x + 1); ++x) {
+        const float z = low.at<float>(y, x);
+        if (z > 0.f && std::abs(z - seed.depth_m) < best) best = std::abs(z - seed.depth_m), start = {x, y};
+      }
+    }
+    if (start.x < 0) continue;
+    const int existing = labels.at<int>(start);
+    const float motion_norm = std::hypot(seed.motion.x, seed.motion.y);
+    if (existing >= 0) {
+      ++regions[existing].seeds;
+      regions[existing].motion_sum += seed.motion;
+      regions[existing].motion_norm_sum += motion_norm;
+      continue;
+    }
+    const int label = static_cast<int>(regions.size());
+    regions.push_back({1, 0, 0, false, seed.motion, motion_norm});
+    const float z_ref = low.at<float>(start);
+    queue.clear();
+    queue.push_back(start);
+    labels.at<int>(start) = label;
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const cv::Point p = queue[q];
+      const float zp = low.at<float>(p);
+      const float step = static_cast<float>(options.edge_abs_m + options.edge_rel * zp);
+      static const cv::Point kNeighbours[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (const cv::Point& d : kNeighbours) {
+        const cv::Point n = p + d;
+        if (n.x < 0 || n.y < 0 || n.x >= low_size.width || n.y >= low_size.height) continue;
+        if (labels.at<int>(n) >= 0) continue;
+        const float zn = low.at<float>(n);
+        if (zn <= 0.f || std::abs(zn - zp) > step || std::abs(zn - z_ref) > options.band_m) continue;
+        labels.at<int>(n) = label;
+        queue.push_back(n);
+      }
+    }
+    regions[label].area = static_cast<int>(queue.size());
+  }
+  result.num_regions = static_cast<int>(regions.size());
+  for (const RegionPoint& p : statics) {
+    const int label = labels.at<int>(LowPixel(p.pixel, s, low_size));
+    if (label >= 0) ++regions[label].statics;
+  }
+  if (!suspect_low.empty()) {
+    for (int y = 0; y < low_size.height; ++y) {
+      for (int x = 0; x < low_size.width; ++x) {
+        const int label = labels.at<int>(y, x);
+        if (label >= 0 && suspect_low.at<uint8_t>(y, x)) regions[label].suspect = true;
+      }
+    }
+  }
+  std::vector<uint8_t> accepted(regions.size(), 0);
+  const double total = static_cast<double>(low_size.area());
+  for (size_t i = 0; i < regions.size(); ++i) {
+    const Region& r = regions[i];
+    const int need = r.suspect ? 1 : options.min_seeds;
+    const double static_ratio = static_cast<double>(r.statics) / (r.statics + r.seeds);
+    const double coherence =
+        r.motion_norm_sum > 0.f ? std::hypot(r.motion_sum.x, r.motion_sum.y) / r.motion_norm_sum : 1.0;
+    const bool coherent = coherence >= options.min_coherence || r.seeds >= options.coherent_free_seeds || r.suspect;
+    if (r.seeds >= need && coherent && static_ratio <= options.max_static_ratio &&
+        r.area <= options.max_area * total) {
+      accepted[i] = 1;
+      ++result.num_accepted;
+    }
+  }
+  result.low_mask = cv::Mat::zeros(low_size, CV_8U);
+  for (int y = 0; y < low_size.height; ++y) {
+    for (int x = 0; x < low_size.width; ++x) {
+      const int label = labels.at<int>(y, x);
+      if (label >= 0 && accepted[label]) result.low_mask.at<uint8_t>(y, x) = 255;
+    }
+  }
+  cv::Mat full;
+  cv::resize(result.low_mask, full, cv::Size(low_size.width * s, low_size.height * s), 0, 0, cv::INTER_NEAREST);
+  result.mask = full(cv::Rect(0, 0, full_size.width, full_size.height)).clone();
+  if (options.dilate_px > 0 && result.num_accepted > 0) {
+    const int k = 2 * options.dilate_px + 1;
+    cv::dilate(result.mask, result.mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));
+  }
+  return result;
+}
+
+cv::Mat SuspectMap::Suspect(int max_age) const {
+  cv::Mat out;
+  if (age.empty()) return out;
+  cv::compare(age, cv::Scalar(max_age), out, cv::CMP_LE);
+  return out;
+}
+
+SuspectMap PropagateSuspect(const SuspectMap& previous, const cv::Mat& low_depth_cur, const PinholeCamera& camera,
+                            int scale, const Rigid3d& prev_from_cur, int max_age, double depth_tol_m) {
+  SuspectMap out;
+  out.age = cv::Mat(low_depth_cur.size(), CV_8U, cv::Scalar(255));
+  out.depth = cv::Mat::zeros(low_depth_cur.size(), CV_32F);
+  if (previous.empty() || previous.age.size() != low_depth_cur.size()) return out;
+  for (int y = 0; y < low_depth_cur.rows; ++y) {
+    for (int x = 0; x < low_depth_cur.cols; ++x) {
+      const float z = low_depth_cur.at<float>(y, x);
+      if (z <= 0.f) continue;
+      const cv::Point2f full(x * scale + scale / 2, y * scale + scale / 2);
+      double z_prev = 0.0;
+      const cv::Point2f u = WarpToPrevious(camera, prev_from_cur, full, z, &z_prev);
+      const int px = static_cast<int>(std::lround((u.x + 0.5f) / scale - 0.5f));
+      const int py = static_cast<int>(std::lround((u.y + 0.5f) / scale - 0.5f));
+      if (px < 0 || py < 0 || px >= low_depth_cur.cols || py >= low_depth_cur.rows) continue;
+      const int age = previous.age.at<uint8_t>(py, px);
+      if (age >= max_age) continue;
+      if (std::abs(previous.depth.at<float>(py, px) - z_prev) > depth_tol_m) continue;
+      out.age.at<uint8_t>(y, x) = static_cast<uint8_t>(age + 1);
+      out.depth.at<float>(y, x) = z;
+    }
+  }
+  return out;
+}
+
+void AddToSuspect(const cv::Mat& low_mask, const cv::Mat& low_depth, SuspectMap* map) {
+  if (map->age.empty()) {
+    map->age = cv::Mat(low_mask.size(), CV_8U, cv::Scalar(255));
+    map->depth = cv::Mat::zeros(low_mask.size(), CV_32F);
+  }
+  for (int y = 0; y < low_mask.rows; ++y) {
+    for (int x = 0; x < low_mask.cols; ++x) {
+      if (!low_mask.at<uint8_t>(y, x) || low_depth.at<float>(y, x) <= 0.f) continue;
+      map->age.at<uint8_t>(y, x) = 0;
+      map->depth.at<float>(y, x) = low_depth.at<float>(y, x);
+    }
+  }
+}
+
+}  // namespace dynorb

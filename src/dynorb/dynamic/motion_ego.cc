@@ -1,0 +1,192 @@
+#include "dynorb/dynamic/motion_ego.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "dynorb/dynamic/fast_cues.h"
+
+namespace dynorb {
+namespace {
+
+Rigid3d FromRvecTvec(const cv::Mat& rvec, const cv::Mat& tvec) {
+  cv::Mat r;
+  cv::Rodrigues(rvec, r);
+  Eigen::Matrix3d rot;
+  cv::cv2eigen(r, rot);
+  return Rigid3d(rot, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
+}
+
+void ToRvecTvec(const Rigid3d& pose, cv::Mat* rvec, cv::Mat* tvec) {
+  cv::Mat r;
+  cv::eigen2cv(Eigen::Matrix3d(pose.rotation.toRotationMatrix()), r);
+  cv::Rodrigues(r, *rvec);
+  *tvec = (cv::Mat_<double>(3, 1) << pose.translation.x(), pose.translation.y(), pose.translation.z());
+}
+
+struct Problem {
+  const PinholeCamera* camera;
+  cv::Mat k;
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  std::vector<int> cell;  // coverage cell of each point
+  int num_cells = 0;
+  int occupied = 0;       // cells holding any point
+  const EgoMotionOptions* options;
+
+  std::vector<uint8_t> Inliers(const Rigid3d& pose, double gate) const {
+    std::vector<uint8_t> in(object.size(), 0);
+    const Eigen::Matrix3d r = pose.rotation.toRotationMatrix();
+    for (size_t i = 0; i < object.size(); ++i) {
+      const Eigen::Vector3d x = r * Eigen::Vector3d(object[i].x, object[i].y, object[i].z) + pose.translation;
+      if (x.z() <= 1e-6) continue;
+      const Eigen::Vector2d u = camera->Project(x);
+      in[i] = std::hypot(u.x() - image[i].x, u.y() - image[i].y) < gate;
+    }
+    return in;
+  }
+
+  double Coverage(const std::vector<uint8_t>& in) const {
+    std::vector<int> count(num_cells, 0);
+    for (size_t i = 0; i < in.size(); ++i) count[cell[i]] += in[i];
+    int covered = 0;
+    for (int c : count) covered += c >= 2;
+    return occupied > 0 ? static_cast<double>(covered) / occupied : 0.0;
+  }
+
+  // Shrinking-gate refinement; false when too few points support the estimate.
+  bool Refine(Rigid3d* pose, int* inliers) const {
+    *inliers = 0;
+    for (double gate : options->gates_px) {
+      const std::vector<uint8_t> in = Inliers(*pose, gate);
+      std::vector<cv::Point3f> obj_in;
+      std::vector<cv::Point2f> img_in;
+      for (size_t i = 0; i < in.size(); ++i) {
+        if (!in[i]) continue;
+        obj_in.push_back(object[i]);
+        img_in.push_back(image[i]);
+      }
+      if (static_cast<int>(obj_in.size()) < options->min_points) return *inliers > 0;
+      cv::Mat rvec, tvec;
+      ToRvecTvec(*pose, &rvec, &tvec);
+      if (!cv::solvePnP(obj_in, img_in, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) break;
+      *pose = FromRvecTvec(rvec, tvec);
+      *inliers = static_cast<int>(obj_in.size());
+    }
+    return *inliers > 0;
+  }
+
+  // PnP-RANSAC on the points with use[i] != 0.
+  bool Ransac(const std::vector<uint8_t>& use, Rigid3d* pose) const {
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (size_t i = 0; i < use.size(); ++i) {
+      if (!use[i]) continue;
+      obj.push_back(object[i]);
+      img.push_back(image[i]);
+    }
+    if (static_cast<int>(obj.size()) < options->min_points) return false;
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    cv::setRNGSeed(12345);
+    const bool ok = cv::solvePnPRansac(obj, img, k, cv::noArray(), rvec, tvec, false, options->ransac_iterations,
+                                       static_cast<float>(options->ransac_px), 0.99, inliers, cv::SOLVEPNP_EPNP);
+    if (!ok || static_cast<int>(inliers.size()) < options->min_points) return false;
+    *pose = FromRvecTvec(rvec, tvec);
+    return true;
+  }
+};
+
+}  // namespace
+
+EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
+                                  const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid,
+                                  const cv::Mat& depth_cur, const std::vector<Rigid3d>& seeds_prev_from_cur,
+                                  const EgoMotionOptions& options) {
+  EgoMotionResult result;
+  if (!options.refine && !seeds_prev_from_cur.empty()) {
+    result.ok = true;
+    result.seed_index = 0;
+    result.prev_from_cur = seeds_prev_from_cur[0];
+    return result;
+  }
+  Problem problem;
+  problem.camera = &camera;
+  problem.options = &options;
+  problem.k = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  problem.num_cells = options.grid_cols * options.grid_rows;
+  std::vector<uint8_t> occupied(problem.num_cells, 0);
+  // 3D points away from depth edges (the edge depth is ambiguous).
+  for (size_t i = 0; i < p1.size(); ++i) {
+    if (!valid[i]) continue;
+    const DepthSample z = SampleDepth(depth_cur, p2[i], options.max_depth_m);
+    if (z.center <= 0.f || z.max - z.min > 0.05f + 0.08f * z.center) continue;
+    const Eigen::Vector3d x = camera.Unproject(Eigen::Vector2d(p2[i].x, p2[i].y), z.center);
+    problem.object.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()));
+    problem.image.push_back(p1[i]);
+    const int cx = std::clamp(static_cast<int>(p2[i].x * options.grid_cols / camera.width), 0, options.grid_cols - 1);
+    const int cy = std::clamp(static_cast<int>(p2[i].y * options.grid_rows / camera.height), 0, options.grid_rows - 1);
+    problem.cell.push_back(cy * options.grid_cols + cx);
+  }
+  {
+    std::vector<int> count(problem.num_cells, 0);
+    for (int c : problem.cell) ++count[c];
+    for (int c : count) problem.occupied += c >= 2;
+  }
+  const double final_gate = options.gates_px.empty() ? options.ransac_px : options.gates_px.back();
+  // Seed hypotheses (priority order) and two RANSAC hypotheses: the dominant motion and the
+  // dominant motion of its outliers.
+  struct Hypothesis {
+    Rigid3d pose;
+    int inliers = 0;
+    double coverage = 0.0;
+    int seed = -1;
+  };
+  std::vector<Hypothesis> hypotheses;
+  for (size_t s = 0; s < seeds_prev_from_cur.size(); ++s) {
+    Hypothesis h;
+    h.pose = seeds_prev_from_cur[s];
+    h.seed = static_cast<int>(s);
+    if (!problem.Refine(&h.pose, &h.inliers)) continue;
+    h.coverage = problem.Coverage(problem.Inliers(h.pose, final_gate));
+    hypotheses.push_back(h);
+  }
+  std::vector<uint8_t> use(problem.object.size(), 1);
+  for (int r = 0; r < 2; ++r) {
+    Hypothesis h;
+    if (!problem.Ransac(use, &h.pose)) break;
+    if (!problem.Refine(&h.pose, &h.inliers)) break;
+    h.coverage = problem.Coverage(problem.Inliers(h.pose, final_gate));
+    hypotheses.push_back(h);
+    const std::vector<uint8_t> wide = problem.Inliers(h.pose, 2.0 * options.ransac_px);
+    for (size_t i = 0; i < use.size(); ++i) use[i] = use[i] && !wide[i];
+  }
+  if (hypotheses.empty()) return result;
+  double best_coverage = 0.0;
+  for (const Hypothesis& h : hypotheses) best_coverage = std::max(best_coverage, h.coverage);
+  // The first seed with enough support wins (it guards against a mover covering up to about half
+  // the image); otherwise the hypothesis covering most of the image.
+  const Hypothesis* chosen = nullptr;
+  for (const Hypothesis& h : hypotheses) {
+    if (h.seed >= 0 && h.coverage >= options.min_seed_coverage &&
+        h.coverage >= options.seed_coverage_ratio * best_coverage) {
+      chosen = &h;
+      break;
+    }
+  }
+  if (chosen == nullptr) {
+    for (const Hypothesis& h : hypotheses) {
+      if (chosen == nullptr || h.coverage > chosen->coverage) chosen = &h;
+    }
+  }
+  result.ok = true;
+  result.seed_index = chosen->seed;
+  result.prev_from_cur = chosen->pose;
+  result.num_inliers = chosen->inliers;
+  result.coverage = chosen->coverage;
+  return result;
+}
+
+}  // namespace dynorb
