@@ -68,7 +68,7 @@ void RunFast(benchmark::State& state, FastOptions options) {
       input.keypoints = &clip.keypoints[i];
       if (i >= 2) input.predicted_cam_from_previous_cam = clip.world_from_cam[i - 1].Inverse() * clip.world_from_cam[i - 2];
       const FilterOutput out = filter.Filter(input);
-      benchmark::DoNotOptimize(out.keep.data());
+      benchmark::DoNotOptimize(out.keep);
       if (i == 0) continue;
       const auto& kps = clip.keypoints[i].keypoints;
       for (size_t k = 0; k < kps.size(); ++k) {
