@@ -36,8 +36,9 @@ void PrintProgress(int done, int total, double seconds) {
   last_percent = percent;
   const int width = 30, filled = width * percent / 100;
   const double fps = seconds > 0 ? done / seconds : 0.0;
-  std::fprintf(stderr, "%s[%s%s] %d/%d frames %5.1f fps%s", tty ? "\r" : "", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), done, total, fps, tty ? "" : "\n");
+  std::fprintf(stderr, "%s[%s%s] %d/%d frames %5.1f fps%s", tty ? "\r" : "",
+               std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done,
+               total, fps, tty ? "" : "\n");
   if (tty && done == total) std::fprintf(stderr, "\n");
   std::fflush(stderr);
 }
@@ -55,7 +56,8 @@ void RunSynth(SynthCli cli) {
   } else if (cli.people != "procedural") {
     o.people_dir = cli.people;
   }
-  std::string cmd = "dynorb synth --preset " + o.preset + " --seed " + std::to_string(o.seed) + " --out " + o.out_dir;
+  std::string cmd = "dynorb synth --preset " + o.preset + " --seed " + std::to_string(o.seed) +
+                    " --out " + o.out_dir;
   if (cli.frames > 0) cmd += " --frames " + std::to_string(cli.frames);
   if (o.static_twin) cmd += " --static-twin";
   cmd += " --people " + (o.people_dir.empty() ? std::string("procedural") : o.people_dir);
@@ -69,41 +71,50 @@ void RunSynth(SynthCli cli) {
 
   const auto start = std::chrono::steady_clock::now();
   const synth::SynthReport report = synth::Synthesize(o, [&](int done, int total) {
-    PrintProgress(done, total, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    PrintProgress(done, total,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   });
   for (const std::string& w : report.warnings) std::cerr << "dynorb synth: warning: " << w << "\n";
-  std::cout << "wrote " << report.frames << " frames to " << o.out_dir << " in " << report.seconds << " s ("
-            << report.frames / std::max(1e-9, report.seconds) << " frames/s)\n";
+  std::cout << "wrote " << report.frames << " frames to " << o.out_dir << " in " << report.seconds
+            << " s (" << report.frames / std::max(1e-9, report.seconds) << " frames/s)\n";
 }
 
 const bool kRegistered = RegisterCommand("synth", 15, [](CLI::App& app) {
   auto cli = std::make_shared<SynthCli>();
-  CLI::App* cmd = app.add_subcommand(
-      "synth",
-      "Generate a synthetic dynamic RGB-D sequence (TUM layout: rgb/, depth/, masks/, rgb.txt, depth.txt, "
-      "groundtruth.txt, camera.yaml, scene.yaml): an office with walking people and moved objects seen by a "
-      "hand-held Kinect-like camera.");
-  cmd->add_option("--preset", cli->options.preset, "camera motion and people: " + synth::PresetNames())
+  CLI::App* cmd = app.add_subcommand("synth",
+                                     "Generate a synthetic dynamic RGB-D sequence (TUM layout: "
+                                     "rgb/, depth/, masks/, rgb.txt, depth.txt, "
+                                     "groundtruth.txt, camera.yaml, scene.yaml): an office with "
+                                     "walking people and moved objects seen by a "
+                                     "hand-held Kinect-like camera.");
+  cmd->add_option("--preset", cli->options.preset,
+                  "camera motion and people: " + synth::PresetNames())
       ->capture_default_str();
-  cmd->add_option("--seed", cli->options.seed, "random seed (layout details, paths, noise)")->capture_default_str();
-  cmd->add_option("--out", cli->options.out_dir, "output directory (must be empty unless --force)")->required();
-  cmd->add_option("--frames", cli->frames, "number of frames (default: the preset's duration at 30 Hz)");
+  cmd->add_option("--seed", cli->options.seed, "random seed (layout details, paths, noise)")
+      ->capture_default_str();
+  cmd->add_option("--out", cli->options.out_dir, "output directory (must be empty unless --force)")
+      ->required();
+  cmd->add_option("--frames", cli->frames,
+                  "number of frames (default: the preset's duration at 30 Hz)");
   cmd->add_flag("--static-twin", cli->options.static_twin,
                 "the same sequence with every moving object removed (for ATE ratios)");
   cmd->add_option("--people", cli->people,
-                  "directory of RGBA *.png cut-outs of people, or 'procedural' (default: ../shared/data/people "
+                  "directory of RGBA *.png cut-outs of people, or 'procedural' (default: "
+                  "../shared/data/people "
                   "if present, else procedural figures)")
       ->capture_default_str();
   cmd->add_option("--num-people", cli->options.num_people, "number of people 1..3 (default 2)");
   cmd->add_flag("--no-noise", cli->no_noise, "ideal sensor: no noise, blur or exposure changes");
   cmd->add_option("--textures", cli->textures,
-                  std::string("directory of the photographs used as textures (default ") + synth::kDefaultTextureDir +
-                      ", procedural stand-ins if absent)");
-  cmd->add_option("--trajectory", cli->options.trajectory_file,
-                  "drive the camera along this TUM trajectory (re-expressed in the room; real frame timestamps "
-                  "from an associations.txt next to it)");
+                  std::string("directory of the photographs used as textures (default ") +
+                      synth::kDefaultTextureDir + ", procedural stand-ins if absent)");
+  cmd->add_option(
+      "--trajectory", cli->options.trajectory_file,
+      "drive the camera along this TUM trajectory (re-expressed in the room; real frame timestamps "
+      "from an associations.txt next to it)");
   cmd->add_option("--threads", cli->options.threads, "worker threads (default: all cores)");
-  cmd->add_option("--supersample", cli->options.supersample, "anti-aliasing supersampling factor 1..4")
+  cmd->add_option("--supersample", cli->options.supersample,
+                  "anti-aliasing supersampling factor 1..4")
       ->capture_default_str();
   cmd->add_flag("--force", cli->options.force, "overwrite a non-empty output directory");
   cmd->callback([cli] { RunSynth(*cli); });

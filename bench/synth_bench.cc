@@ -2,13 +2,12 @@
 // pipeline (render, noise, PNG writing) on all cores. Target: >= 20 frames/s on 2 cores.
 //   build/<dir>/bench/dynorb_microbench --benchmark_filter=Synth
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <ctime>
 #include <filesystem>
-#include <algorithm>
 #include <memory>
-
-#include <unistd.h>
 
 #include "dynorb/synth/synthesizer.h"
 
@@ -33,13 +32,15 @@ void BM_SynthRenderFrame(benchmark::State& state) {
     benchmark::DoNotOptimize(frame.rgb.data);
     k = (k + 1) % synth->num_frames();
   }
-  state.counters["frames_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["frames_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_SynthRenderFrame)->Unit(benchmark::kMillisecond);
 
 // End to end, as `dynorb synth --frames 60` (includes building the scene, ~1 s).
 void BM_SynthSequence(benchmark::State& state) {
-  const auto dir = std::filesystem::temp_directory_path() / ("dynorb_synth_bench_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("dynorb_synth_bench_" + std::to_string(::getpid()));
   int frames = 0;
   const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {

@@ -1,10 +1,9 @@
 #include "dynorb/synth/camera_motion.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <Eigen/Geometry>
 
 #include "dynorb/core/error.h"
 #include "dynorb/io/text_lines.h"
@@ -70,12 +69,13 @@ SmoothNoise::SmoothNoise(uint64_t seed, double min_hz, double max_hz, int terms)
 
 double SmoothNoise::operator()(double t) const {
   double v = 0.0;
-  for (size_t i = 0; i < freq_.size(); ++i) v += amp_[i] * std::sin(2.0 * kPi * freq_[i] * t + phase_[i]);
+  for (size_t i = 0; i < freq_.size(); ++i)
+    v += amp_[i] * std::sin(2.0 * kPi * freq_[i] * t + phase_[i]);
   return v;
 }
 
-CameraPath::CameraPath(const Preset& preset, const Eigen::Vector3d& anchor, const Eigen::Vector3d& target,
-                       uint64_t seed)
+CameraPath::CameraPath(const Preset& preset, const Eigen::Vector3d& anchor,
+                       const Eigen::Vector3d& target, uint64_t seed)
     : preset_(preset), anchor_(anchor), target_(target), duration_s_(preset.duration_s) {
   // 0-2: slow wander of position, 3-5: hand tremor of position, 6-8: tremor of orientation.
   for (int i = 0; i < 9; ++i) {
@@ -84,7 +84,8 @@ CameraPath::CameraPath(const Preset& preset, const Eigen::Vector3d& anchor, cons
   }
 }
 
-CameraPath::CameraPath(const Trajectory& trajectory, const Rigid3d& start) : trajectory_(trajectory) {
+CameraPath::CameraPath(const Trajectory& trajectory, const Rigid3d& start)
+    : trajectory_(trajectory) {
   if (trajectory_.size() < 2) throw InputError("trajectory needs at least two poses");
   start_from_first_ = start * trajectory_.front().world_from_cam.Inverse();
   duration_s_ = trajectory_.back().timestamp_s - trajectory_.front().timestamp_s;
@@ -103,7 +104,8 @@ Rigid3d CameraPath::Interpolate(double timestamp_s) const {
 }
 
 Rigid3d CameraPath::WorldFromCam(double t) const {
-  if (!trajectory_.empty()) return start_from_first_ * Interpolate(trajectory_.front().timestamp_s + t);
+  if (!trajectory_.empty())
+    return start_from_first_ * Interpolate(trajectory_.front().timestamp_s + t);
   const auto& n = noise_;
   const double w = 2.0 * kPi;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // world x right, y forward, z up
@@ -112,8 +114,9 @@ Rigid3d CameraPath::WorldFromCam(double t) const {
   switch (preset_.motion) {
     case CameraMotion::kXyz: {
       const double amp = preset_.sitting ? 0.7 : 1.0;
-      offset = amp * Eigen::Vector3d(0.32 * std::sin(w * t / 9.0), 0.25 * std::sin(w * t / 12.5 + 1.0),
-                                     0.18 * std::sin(w * t / 7.0 + 2.0));
+      offset =
+          amp * Eigen::Vector3d(0.32 * std::sin(w * t / 9.0), 0.25 * std::sin(w * t / 12.5 + 1.0),
+                                0.18 * std::sin(w * t / 7.0 + 2.0));
       offset += 0.04 * Eigen::Vector3d(n[0](t), n[1](t), n[2](t));
       target += 0.15 * Eigen::Vector3d(n[1](t + 40.0), 0.0, n[2](t + 40.0));
       break;
@@ -133,9 +136,10 @@ Rigid3d CameraPath::WorldFromCam(double t) const {
       // On a sphere of ~1 m diameter around a point 0.5 m in front of the anchor.
       const double azimuth = Deg(70.0) * std::sin(w * t / 14.0);
       const double elevation = Deg(35.0) * std::sin(w * t / 9.0 + 0.5);
-      const Eigen::Vector3d dir(std::sin(azimuth) * std::cos(elevation), -std::cos(azimuth) * std::cos(elevation),
-                                std::sin(elevation));
-      offset = Eigen::Vector3d(0.0, 0.5, 0.0) + 0.5 * dir + 0.02 * Eigen::Vector3d(n[0](t), n[1](t), n[2](t));
+      const Eigen::Vector3d dir(std::sin(azimuth) * std::cos(elevation),
+                                -std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
+      offset = Eigen::Vector3d(0.0, 0.5, 0.0) + 0.5 * dir +
+               0.02 * Eigen::Vector3d(n[0](t), n[1](t), n[2](t));
       break;
     }
   }
@@ -167,10 +171,12 @@ std::vector<FrameTime> MakeFrameTimes(int frames, double start_timestamp_s, uint
   return times;
 }
 
-std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, double first_ts, double duration_s) {
+std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, double first_ts,
+                                      double duration_s) {
   std::vector<FrameTime> times;
   ForEachDataLine(associations_path, [&](int line, const std::vector<std::string>& fields) {
-    if (fields.size() < 3) throw InputErrorAt(associations_path, line, "expected 'rgb_ts rgb_file depth_ts ...'");
+    if (fields.size() < 3)
+      throw InputErrorAt(associations_path, line, "expected 'rgb_ts rgb_file depth_ts ...'");
     const double rgb = ParseDouble(fields[0], associations_path, line);
     const double depth = ParseDouble(fields[2], associations_path, line);
     if (rgb < first_ts || rgb > first_ts + duration_s) return;
@@ -178,7 +184,8 @@ std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, doub
       throw InputErrorAt(associations_path, line, "timestamps must increase");
     times.push_back({rgb - first_ts, rgb, depth});
   });
-  if (times.empty()) throw InputError(associations_path + ": no frame within the trajectory's time span");
+  if (times.empty())
+    throw InputError(associations_path + ": no frame within the trajectory's time span");
   return times;
 }
 

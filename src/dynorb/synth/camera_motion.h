@@ -6,11 +6,10 @@
 // frequencies and phases), so any frame can be computed on its own. Immutable; thread-safe.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "dynorb/core/rigid3.h"
 #include "dynorb/core/trajectory.h"
@@ -48,7 +47,8 @@ class SmoothNoise {
 class CameraPath {
  public:
   // A preset motion around `anchor`, filming `target`.
-  CameraPath(const Preset& preset, const Eigen::Vector3d& anchor, const Eigen::Vector3d& target, uint64_t seed);
+  CameraPath(const Preset& preset, const Eigen::Vector3d& anchor, const Eigen::Vector3d& target,
+             uint64_t seed);
   // A real trajectory (world_from_cam samples), re-expressed so that its first pose is `start`:
   // world_from_cam(t) = start * gt(t0)^-1 * gt(t0 + t), interpolated (slerp + linear).
   CameraPath(const Trajectory& trajectory, const Rigid3d& start);
@@ -56,7 +56,9 @@ class CameraPath {
   Rigid3d WorldFromCam(double t_s) const;
   double duration_s() const { return duration_s_; }
   // For trajectory paths: timestamp of the trajectory's first pose (else 0).
-  double first_timestamp_s() const { return trajectory_.empty() ? 0.0 : trajectory_.front().timestamp_s; }
+  double first_timestamp_s() const {
+    return trajectory_.empty() ? 0.0 : trajectory_.front().timestamp_s;
+  }
 
  private:
   Rigid3d Interpolate(double timestamp_s) const;
@@ -70,8 +72,8 @@ class CameraPath {
 };
 
 struct FrameTime {
-  double t_s;        // since the first frame (drives the scene)
-  double rgb_ts;     // TUM timestamps (seconds)
+  double t_s;     // since the first frame (drives the scene)
+  double rgb_ts;  // TUM timestamps (seconds)
   double depth_ts;
 };
 
@@ -79,6 +81,7 @@ struct FrameTime {
 std::vector<FrameTime> MakeFrameTimes(int frames, double start_timestamp_s, uint64_t seed);
 // Frames at the real timestamps of a TUM associations file (rgb_ts rgb/.. depth_ts depth/..)
 // that fall within [first_ts, first_ts + duration_s]. Throws InputError on malformed lines.
-std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, double first_ts, double duration_s);
+std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, double first_ts,
+                                      double duration_s);
 
 }  // namespace dynorb::synth

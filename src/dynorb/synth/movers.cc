@@ -1,10 +1,9 @@
 #include "dynorb/synth/movers.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <Eigen/Geometry>
 
 namespace dynorb::synth {
 namespace {
@@ -31,11 +30,14 @@ void AppendRigid(const std::vector<DrawQuad>& local, const Rigid3d& world_from_o
 }  // namespace
 
 void KeyframePath::Add(double t_s, const Eigen::Vector3d& position, double yaw_rad) {
-  const double dist = keys_.empty() ? 0.0 : keys_.back().dist + (position - keys_.back().p).head<2>().norm();
+  const double dist =
+      keys_.empty() ? 0.0 : keys_.back().dist + (position - keys_.back().p).head<2>().norm();
   keys_.push_back({t_s, position, yaw_rad, dist});
 }
 
-void KeyframePath::Wait(double duration_s) { Add(keys_.back().t + duration_s, keys_.back().p, keys_.back().yaw); }
+void KeyframePath::Wait(double duration_s) {
+  Add(keys_.back().t + duration_s, keys_.back().p, keys_.back().yaw);
+}
 
 void KeyframePath::MoveTo(const Eigen::Vector3d& position, double speed_mps, double yaw_rad) {
   const double length = (position - keys_.back().p).norm();
@@ -43,7 +45,8 @@ void KeyframePath::MoveTo(const Eigen::Vector3d& position, double speed_mps, dou
 }
 
 size_t KeyframePath::Segment(double t) const {
-  auto it = std::upper_bound(keys_.begin(), keys_.end(), t, [](double v, const Key& k) { return v < k.t; });
+  auto it = std::upper_bound(keys_.begin(), keys_.end(), t,
+                             [](double v, const Key& k) { return v < k.t; });
   return static_cast<size_t>(std::max<std::ptrdiff_t>(0, (it - keys_.begin()) - 1));
 }
 
@@ -82,7 +85,8 @@ Eigen::Vector2d KeyframePath::Heading(double t) const {
     }
     if (i == 0) break;
   }
-  for (size_t j = 0; j + 1 < keys_.size(); ++j) {  // not moved yet: the first direction it will take
+  for (size_t j = 0; j + 1 < keys_.size();
+       ++j) {  // not moved yet: the first direction it will take
     const Eigen::Vector2d d = (keys_[j + 1].p - keys_[j].p).head<2>();
     if (d.norm() > 1e-6) return d.normalized();
   }
@@ -107,7 +111,8 @@ Movers::Movers(const Office& office, bool sitting, int num_people, double durati
       while (t < duration_s + 5.0) {
         const double dwell = uniform(4.0, 9.0);
         path.Wait(dwell);
-        const Eigen::Vector3d step = home + Eigen::Vector3d(uniform(-0.3, 0.3), uniform(-0.15, 0.1), 0.0);
+        const Eigen::Vector3d step =
+            home + Eigen::Vector3d(uniform(-0.3, 0.3), uniform(-0.15, 0.1), 0.0);
         path.MoveTo(step, 0.4);
         path.Wait(uniform(1.0, 3.0));
         path.MoveTo(home, 0.4);
@@ -121,12 +126,15 @@ Movers::Movers(const Office& office, bool sitting, int num_people, double durati
       if (i > 0) path.Wait(2.5 * i + uniform(0.0, 2.0));
       while (path.end_time() < duration_s + 5.0) {
         const double speed = uniform(0.6, 1.1);
-        const Eigen::Vector3d goal(to_right ? o.walk_x1 : o.walk_x0, uniform(o.walk_y0, o.walk_y1), 0.0);
+        const Eigen::Vector3d goal(to_right ? o.walk_x1 : o.walk_x0, uniform(o.walk_y0, o.walk_y1),
+                                   0.0);
         const Eigen::Vector3d from = path.Position(path.end_time());
         if (unit(rng) < 0.6) {  // stop somewhere in view, then go on
           const double f = uniform(0.35, 0.65);
-          const Eigen::Vector3d mid = from + f * (goal - from) + Eigen::Vector3d(0, uniform(-0.3, 0.3), 0);
-          path.MoveTo(Eigen::Vector3d(mid.x(), std::clamp(mid.y(), o.walk_y0, o.walk_y1), 0.0), speed);
+          const Eigen::Vector3d mid =
+              from + f * (goal - from) + Eigen::Vector3d(0, uniform(-0.3, 0.3), 0);
+          path.MoveTo(Eigen::Vector3d(mid.x(), std::clamp(mid.y(), o.walk_y0, o.walk_y1), 0.0),
+                      speed);
           path.Wait(uniform(0.8, 3.0));
         }
         path.MoveTo(goal, speed);
@@ -161,7 +169,8 @@ Movers::Movers(const Office& office, bool sitting, int num_people, double durati
   }
 }
 
-void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position, std::vector<DrawQuad>* quads) const {
+void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position,
+                         std::vector<DrawQuad>* quads) const {
   for (size_t i = 0; i < people_.size(); ++i) {
     const KeyframePath& path = people_[i];
     const PersonLook& look = looks_[i];
@@ -177,9 +186,10 @@ void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position, std::
     to_cam.normalize();
     const Eigen::Vector3d right(-to_cam.y(), to_cam.x(), 0.0);  // as seen from the camera
     const bool mirror = path.Heading(t).dot(right.head<2>()) < 0.0;
-    const size_t phase = look.gait.size() > 1
-                             ? static_cast<size_t>(std::floor(dist / 1.4 * look.gait.size())) % look.gait.size()
-                             : 0;
+    const size_t phase =
+        look.gait.size() > 1
+            ? static_cast<size_t>(std::floor(dist / 1.4 * look.gait.size())) % look.gait.size()
+            : 0;
     DrawQuad q;
     q.texture = look.gait[phase];
     q.origin = p - 0.5 * width * right + Eigen::Vector3d(0, 0, height + bob);
@@ -190,8 +200,10 @@ void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position, std::
     q.object_id = static_cast<int>(i) + 1;
     quads->push_back(q);
   }
-  AppendRigid(office_->pushed_box, Pose(pushed_.Position(t, true), pushed_.Yaw(t, true)), kPushedBoxId, quads);
-  AppendRigid(office_->desk_item, Pose(item_.Position(t, true), item_.Yaw(t, true)), kDeskItemId, quads);
+  AppendRigid(office_->pushed_box, Pose(pushed_.Position(t, true), pushed_.Yaw(t, true)),
+              kPushedBoxId, quads);
+  AppendRigid(office_->desk_item, Pose(item_.Position(t, true), item_.Yaw(t, true)), kDeskItemId,
+              quads);
 }
 
 std::vector<ObjectState> Movers::States(double t) const {
@@ -200,11 +212,13 @@ std::vector<ObjectState> Movers::States(double t) const {
   for (size_t i = 0; i < people_.size(); ++i) {
     const Eigen::Vector2d h = people_[i].Heading(t);
     const bool moving = (people_[i].Position(t + kDt) - people_[i].Position(t - kDt)).norm() > 1e-4;
-    states.push_back({static_cast<int>(i) + 1, Pose(people_[i].Position(t), std::atan2(h.y(), h.x())), moving});
+    states.push_back(
+        {static_cast<int>(i) + 1, Pose(people_[i].Position(t), std::atan2(h.y(), h.x())), moving});
   }
   auto rigid = [&](const KeyframePath& path, int id) {
-    const bool moving = (path.Position(t + kDt, true) - path.Position(t - kDt, true)).norm() > 1e-4 ||
-                        std::abs(path.Yaw(t + kDt, true) - path.Yaw(t - kDt, true)) > 1e-4;
+    const bool moving =
+        (path.Position(t + kDt, true) - path.Position(t - kDt, true)).norm() > 1e-4 ||
+        std::abs(path.Yaw(t + kDt, true) - path.Yaw(t - kDt, true)) > 1e-4;
     states.push_back({id, Pose(path.Position(t, true), path.Yaw(t, true)), moving});
   };
   rigid(pushed_, kPushedBoxId);

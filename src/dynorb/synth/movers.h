@@ -10,11 +10,10 @@
 // construction; thread-safe.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "dynorb/core/rigid3.h"
 #include "dynorb/synth/office.h"
@@ -30,7 +29,7 @@ constexpr int kDeskItemId = 5;
 class KeyframePath {
  public:
   void Add(double t_s, const Eigen::Vector3d& position, double yaw_rad = 0.0);
-  void Wait(double duration_s);                                          // stays at the last key
+  void Wait(double duration_s);  // stays at the last key
   void MoveTo(const Eigen::Vector3d& position, double speed_mps, double yaw_rad = 0.0);
   double end_time() const { return keys_.empty() ? 0.0 : keys_.back().t; }
   Eigen::Vector3d Position(double t_s, bool eased = false) const;
@@ -68,7 +67,8 @@ class Movers {
          std::vector<PersonLook> looks);
 
   // Appends all moving objects at time t; billboards face `camera_position`.
-  void AppendQuads(double t_s, const Eigen::Vector3d& camera_position, std::vector<DrawQuad>* quads) const;
+  void AppendQuads(double t_s, const Eigen::Vector3d& camera_position,
+                   std::vector<DrawQuad>* quads) const;
   std::vector<ObjectState> States(double t_s) const;
   const std::vector<double>& person_heights() const { return heights_; }
   const std::vector<PersonLook>& looks() const { return looks_; }

@@ -7,13 +7,12 @@
 // [0,6] x [0,5] x [0,3]. Deterministic given the seed and the photographs.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <map>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
 
 #include "dynorb/synth/renderer.h"
 #include "dynorb/synth/scene.h"

@@ -1,17 +1,17 @@
 #include "dynorb/synth/png_writer.h"
 
+#include <zlib.h>
+
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
-
-#include <zlib.h>
 
 namespace dynorb::synth {
 namespace {
 
 void PutU32(std::string* out, uint32_t v) {
-  const char bytes[4] = {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-                         static_cast<char>(v)};
+  const char bytes[4] = {static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                         static_cast<char>(v >> 8), static_cast<char>(v)};
   out->append(bytes, 4);
 }
 
@@ -20,7 +20,8 @@ void PutChunk(std::string* out, const char* type, const std::string& data) {
   const size_t start = out->size();
   out->append(type, 4);
   out->append(data);
-  const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(out->data() + start), static_cast<uInt>(out->size() - start));
+  const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(out->data() + start),
+                          static_cast<uInt>(out->size() - start));
   PutU32(out, static_cast<uint32_t>(crc));
 }
 
@@ -58,11 +59,13 @@ std::string EncodePng(const cv::Mat& image) {
     uint8_t* out = raw.data() + y * (row_bytes + 1);
     out[0] = 1;
     for (int i = 0; i < bpp; ++i) out[1 + i] = line[i];
-    for (size_t i = bpp; i < row_bytes; ++i) out[1 + i] = static_cast<uint8_t>(line[i] - line[i - bpp]);
+    for (size_t i = bpp; i < row_bytes; ++i)
+      out[1 + i] = static_cast<uint8_t>(line[i] - line[i - bpp]);
   }
 
   z_stream z{};
-  if (deflateInit2(&z, 1, Z_DEFLATED, 15, 8, Z_RLE) != Z_OK) throw std::runtime_error("deflateInit2 failed");
+  if (deflateInit2(&z, 1, Z_DEFLATED, 15, 8, Z_RLE) != Z_OK)
+    throw std::runtime_error("deflateInit2 failed");
   std::string compressed(deflateBound(&z, static_cast<uLong>(raw.size())), '\0');
   z.next_in = raw.data();
   z.avail_in = static_cast<uInt>(raw.size());
@@ -77,9 +80,9 @@ std::string EncodePng(const cv::Mat& image) {
   std::string header;
   PutU32(&header, static_cast<uint32_t>(w));
   PutU32(&header, static_cast<uint32_t>(h));
-  header.push_back(static_cast<char>(8 * bytes_per_sample));  // bit depth
-  header.push_back(static_cast<char>(channels == 3 ? 2 : 0));   // colour type: RGB or grey
-  header.append(3, '\0');                                        // deflate, adaptive filters, no interlace
+  header.push_back(static_cast<char>(8 * bytes_per_sample));   // bit depth
+  header.push_back(static_cast<char>(channels == 3 ? 2 : 0));  // colour type: RGB or grey
+  header.append(3, '\0');  // deflate, adaptive filters, no interlace
   PutChunk(&png, "IHDR", header);
   PutChunk(&png, "IDAT", compressed);
   PutChunk(&png, "IEND", "");

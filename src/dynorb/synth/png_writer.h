@@ -5,9 +5,8 @@
 // Pure function; thread-safe.
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace dynorb::synth {
 

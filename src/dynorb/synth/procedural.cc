@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace dynorb::synth {
 namespace {
 
 cv::Scalar Jitter(cv::Scalar bgr, double amount, cv::RNG& rng) {
   const double common = rng.uniform(-amount, amount);
-  for (int i = 0; i < 3; ++i) bgr[i] = std::clamp(bgr[i] * (1.0 + common) + rng.uniform(-8.0, 8.0), 0.0, 255.0);
+  for (int i = 0; i < 3; ++i)
+    bgr[i] = std::clamp(bgr[i] * (1.0 + common) + rng.uniform(-8.0, 8.0), 0.0, 255.0);
   return bgr;
 }
 
@@ -69,8 +69,8 @@ cv::Mat Carpet(cv::Size size, cv::Scalar bgr, cv::RNG& rng) {
   for (int y = 100; y < size.height; y += 100) cv::line(img, {0, y}, {size.width, y}, bgr * 0.8, 1);
   for (int i = 0; i < size.area() / 40000; ++i) {
     cv::Point c(rng.uniform(0, size.width), rng.uniform(0, size.height));
-    cv::ellipse(img, c, cv::Size(rng.uniform(3, 14), rng.uniform(3, 10)), rng.uniform(0, 180), 0, 360,
-                bgr * rng.uniform(0.7, 0.9), cv::FILLED, cv::LINE_AA);
+    cv::ellipse(img, c, cv::Size(rng.uniform(3, 14), rng.uniform(3, 10)), rng.uniform(0, 180), 0,
+                360, bgr * rng.uniform(0.7, 0.9), cv::FILLED, cv::LINE_AA);
   }
   return img;
 }
@@ -100,9 +100,11 @@ cv::Mat Cardboard(cv::Size size, cv::RNG& rng) {
   cv::rectangle(img, {size.width / 2 - tape / 2, 0}, {size.width / 2 + tape / 2, size.height},
                 {150, 175, 195}, cv::FILLED);
   for (int i = 0; i < 3; ++i) {
-    cv::Point p(rng.uniform(0, std::max(1, size.width - 60)), rng.uniform(10, std::max(11, size.height)));
+    cv::Point p(rng.uniform(0, std::max(1, size.width - 60)),
+                rng.uniform(10, std::max(11, size.height)));
     cv::putText(img, i == 0 ? "FRAGILE" : (i == 1 ? "THIS SIDE UP" : "No. 4711"), p,
-                cv::FONT_HERSHEY_SIMPLEX, std::max(0.3, size.width / 700.0), {40, 50, 60}, 2, cv::LINE_AA);
+                cv::FONT_HERSHEY_SIMPLEX, std::max(0.3, size.width / 700.0), {40, 50, 60}, 2,
+                cv::LINE_AA);
   }
   return img;
 }
@@ -114,14 +116,17 @@ cv::Mat CeilingTiles(cv::Size size, double px_per_m, cv::RNG& rng) {
   for (int y = 0; y < size.height; y += tile) {
     for (int x = 0; x < size.width; x += tile) {
       if (rng.uniform(0.0, 1.0) < 0.18) {
-        cv::rectangle(img, {x + 4, y + 4}, {x + tile - 4, y + tile - 4}, {250, 252, 252}, cv::FILLED);
+        cv::rectangle(img, {x + 4, y + 4}, {x + tile - 4, y + tile - 4}, {250, 252, 252},
+                      cv::FILLED);
         for (int k = x + 12; k < x + tile - 8; k += 12)
           cv::line(img, {k, y + 6}, {k, y + tile - 6}, {215, 220, 220}, 1);
       }
     }
   }
-  for (int x = 0; x < size.width; x += tile) cv::line(img, {x, 0}, {x, size.height}, {150, 150, 150}, 2);
-  for (int y = 0; y < size.height; y += tile) cv::line(img, {0, y}, {size.width, y}, {150, 150, 150}, 2);
+  for (int x = 0; x < size.width; x += tile)
+    cv::line(img, {x, 0}, {x, size.height}, {150, 150, 150}, 2);
+  for (int y = 0; y < size.height; y += tile)
+    cv::line(img, {0, y}, {size.width, y}, {150, 150, 150}, 2);
   return img;
 }
 
@@ -137,7 +142,8 @@ cv::Mat BookSpines(cv::Size size, cv::RNG& rng) {
     for (int k = 0; k < 3; ++k) {
       const int y = size.height - h + rng.uniform(h / 8, std::max(h / 8 + 1, h - 8));
       cv::rectangle(img, {x + w / 4, y}, {x + 3 * w / 4, y + std::max(2, h / 30)},
-                    rng.uniform(0, 2) ? cv::Scalar(235, 235, 235) : cv::Scalar(15, 15, 15), cv::FILLED);
+                    rng.uniform(0, 2) ? cv::Scalar(235, 235, 235) : cv::Scalar(15, 15, 15),
+                    cv::FILLED);
     }
     x += w;
   }
@@ -148,7 +154,8 @@ cv::Mat BookSpines(cv::Size size, cv::RNG& rng) {
 cv::Mat Keyboard(cv::Size size, cv::RNG& rng) {
   cv::Mat img(size, CV_8UC3, cv::Scalar(48, 48, 52));
   const int rows = 6, cols = 18;
-  const double kw = size.width / static_cast<double>(cols), kh = size.height / static_cast<double>(rows);
+  const double kw = size.width / static_cast<double>(cols),
+               kh = size.height / static_cast<double>(rows);
   const char* glyphs = "QWERTYUIOPASDFGHJKLZXCVBNM1234567890";
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
@@ -172,15 +179,18 @@ cv::Mat Plaid(cv::Size size, cv::Scalar bgr, cv::RNG& rng) {
   for (int y = 0; y < size.height; y += period)
     cv::rectangle(overlay, {0, y}, {size.width, y + period / 3}, bgr * 0.45, cv::FILLED);
   cv::addWeighted(img, 0.45, overlay, 0.55, 0.0, img);
-  for (int x = period / 2; x < size.width; x += period) cv::line(img, {x, 0}, {x, size.height}, {235, 235, 235}, 1);
-  for (int y = period / 2; y < size.height; y += period) cv::line(img, {0, y}, {size.width, y}, {235, 235, 235}, 1);
+  for (int x = period / 2; x < size.width; x += period)
+    cv::line(img, {x, 0}, {x, size.height}, {235, 235, 235}, 1);
+  for (int y = period / 2; y < size.height; y += period)
+    cv::line(img, {0, y}, {size.width, y}, {235, 235, 235}, 1);
   return img;
 }
 
 cv::Mat Denim(cv::Size size, cv::Scalar bgr, cv::RNG& rng) {
   cv::Mat img = NoisyColor(size, bgr, 0.22, 24.0, rng);
   AddGrain(img, 6.0, rng);
-  for (int y = 0; y < size.height; y += 3) cv::line(img, {0, y}, {size.width, y + 6}, bgr * 0.85, 1);
+  for (int y = 0; y < size.height; y += 3)
+    cv::line(img, {0, y}, {size.width, y + 6}, bgr * 0.85, 1);
   return img;
 }
 
@@ -190,13 +200,14 @@ cv::Mat Scribbles(cv::Size size, cv::Scalar background, cv::RNG& rng) {
   for (int l = 0; l < lines; ++l) {
     const int y = (l + 1) * size.height / (lines + 1);
     int x = rng.uniform(10, std::max(11, size.width / 6));
-    const cv::Scalar ink = rng.uniform(0, 3) == 0 ? cv::Scalar(160, 60, 30) : cv::Scalar(40, 40, 40);
+    const cv::Scalar ink =
+        rng.uniform(0, 3) == 0 ? cv::Scalar(160, 60, 30) : cv::Scalar(40, 40, 40);
     while (x < size.width - 40) {
       std::string word;
       const int len = rng.uniform(2, 8);
       for (int i = 0; i < len; ++i) word += static_cast<char>('a' + rng.uniform(0, 26));
-      cv::putText(img, word, {x, y}, cv::FONT_HERSHEY_SCRIPT_SIMPLEX, size.height / 500.0 + 0.4, ink, 1 + size.height / 400,
-                  cv::LINE_AA);
+      cv::putText(img, word, {x, y}, cv::FONT_HERSHEY_SCRIPT_SIMPLEX, size.height / 500.0 + 0.4,
+                  ink, 1 + size.height / 400, cv::LINE_AA);
       x += static_cast<int>(len * (size.height / 40.0 + 9)) + rng.uniform(10, 30);
     }
   }
@@ -204,8 +215,9 @@ cv::Mat Scribbles(cv::Size size, cv::Scalar background, cv::RNG& rng) {
 }
 
 cv::Mat PseudoPhoto(cv::Size size, cv::RNG& rng) {
-  cv::Mat img = NoisyColor(size, {rng.uniform(60.0, 200.0), rng.uniform(60.0, 200.0), rng.uniform(60.0, 200.0)},
-                           0.35, size.width / 4.0, rng);
+  cv::Mat img = NoisyColor(
+      size, {rng.uniform(60.0, 200.0), rng.uniform(60.0, 200.0), rng.uniform(60.0, 200.0)}, 0.35,
+      size.width / 4.0, rng);
   for (int i = 0; i < 40; ++i) {
     const cv::Scalar colour(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
     cv::Point c(rng.uniform(0, size.width), rng.uniform(0, size.height));

@@ -1,15 +1,15 @@
 #include "dynorb/synth/renderer.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 
 namespace dynorb::synth {
 
-Renderer::Renderer(const PinholeCamera& camera, int supersample) : camera_(camera), supersample_(supersample) {
+Renderer::Renderer(const PinholeCamera& camera, int supersample)
+    : camera_(camera), supersample_(supersample) {
   CV_Assert(supersample >= 1 && supersample <= 4 && camera.width > 0 && camera.height > 0);
 }
 
@@ -17,7 +17,8 @@ void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fr
                        std::vector<Prepared>* prepared) const {
   // Pixel centre u at output resolution is at scale * u + (scale - 1) / 2 at this scale.
   const double fx = camera_.fx * scale, fy = camera_.fy * scale;
-  const double cx = camera_.cx * scale + 0.5 * (scale - 1), cy = camera_.cy * scale + 0.5 * (scale - 1);
+  const double cx = camera_.cx * scale + 0.5 * (scale - 1),
+               cy = camera_.cy * scale + 0.5 * (scale - 1);
   Eigen::Matrix3d k;
   k << fx, 0, cx, 0, fy, cy, 0, 0, 1;
   const Eigen::Matrix3d rot = cam_from_world.rotation.toRotationMatrix();
@@ -48,10 +49,13 @@ void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fr
     p.near_z = 1e30;
     for (int c = 0; c < n; ++c) {
       p.near_z = std::min(p.near_z, clipped[c].z());
-      const Eigen::Vector2d px(fx * clipped[c].x() / clipped[c].z() + cx, fy * clipped[c].y() / clipped[c].z() + cy);
+      const Eigen::Vector2d px(fx * clipped[c].x() / clipped[c].z() + cx,
+                               fy * clipped[c].y() / clipped[c].z() + cy);
       p.polygon.push_back(px);
-      min_x = std::min(min_x, px.x()); max_x = std::max(max_x, px.x());
-      min_y = std::min(min_y, px.y()); max_y = std::max(max_y, px.y());
+      min_x = std::min(min_x, px.x());
+      max_x = std::max(max_x, px.x());
+      min_y = std::min(min_y, px.y());
+      max_y = std::max(max_y, px.y());
     }
     const int w = camera_.width * scale, h = camera_.height * scale;
     if (max_x < 0 || max_y < 0 || min_x > w - 1 || min_y > h - 1) continue;
@@ -88,7 +92,10 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
     const Prepared& p = prepared[qi];
     const Texture* sprite = quads[qi].texture->IsSprite() ? quads[qi].texture : nullptr;
     double min_y = 1e30, max_y = -1e30;
-    for (const auto& v : p.polygon) { min_y = std::min(min_y, v.y()); max_y = std::max(max_y, v.y()); }
+    for (const auto& v : p.polygon) {
+      min_y = std::min(min_y, v.y());
+      max_y = std::max(max_y, v.y());
+    }
     const int y_begin = std::max(0, static_cast<int>(std::ceil(min_y)));
     const int y_end = std::min(h - 1, static_cast<int>(std::floor(max_y)));
     const size_t n = p.polygon.size();
@@ -140,7 +147,8 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       // Sprites: alpha test and body bulge from the texture (perspective-correct bilinear lookup).
       const cv::Mat& ab = sprite->alpha_bulge;
       const float max_tx = ab.cols - 0.5f, max_ty = ab.rows - 0.5f;
-      const float clamp_x = std::max(0.0f, ab.cols - 1.001f), clamp_y = std::max(0.0f, ab.rows - 1.001f);
+      const float clamp_x = std::max(0.0f, ab.cols - 1.001f),
+                  clamp_y = std::max(0.0f, ab.rows - 1.001f);
       const size_t stride = ab.step1();
       const size_t next_x = ab.cols > 1 ? 2 : 0, next_y = ab.rows > 1 ? stride : 0;
       const float* ab_data = ab.ptr<float>(0);
@@ -158,9 +166,11 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         const float fx = cx - ix, fy = cy - iy;
         const float* r0 = ab_data + iy * stride + 2 * ix;
         const float* r1 = r0 + next_y;
-        const float a_top = r0[0] + fx * (r0[next_x] - r0[0]), a_bottom = r1[0] + fx * (r1[next_x] - r1[0]);
+        const float a_top = r0[0] + fx * (r0[next_x] - r0[0]),
+                    a_bottom = r1[0] + fx * (r1[next_x] - r1[0]);
         if (a_top + fy * (a_bottom - a_top) < 0.5f) continue;
-        const float b_top = r0[1] + fx * (r0[next_x + 1] - r0[1]), b_bottom = r1[1] + fx * (r1[next_x + 1] - r1[1]);
+        const float b_top = r0[1] + fx * (r0[next_x + 1] - r0[1]),
+                    b_bottom = r1[1] + fx * (r1[next_x + 1] - r1[1]);
         const float z = 1.0f / (a * x + row_c) - (b_top + fy * (b_bottom - b_top)) * width_m;
         if (z <= kNearM) continue;
         const float iz = 1.0f / z;
@@ -175,7 +185,8 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
 void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
                      const cv::Mat& quad_index, cv::Mat* colour) {
   const int nq = static_cast<int>(quads.size());
-  std::vector<cv::Vec4i> box(nq, cv::Vec4i(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1));
+  std::vector<cv::Vec4i> box(
+      nq, cv::Vec4i(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1));
   for (int y = 0; y < quad_index.rows; ++y) {
     const int* row = quad_index.ptr<int>(y);
     int x = 0;
@@ -185,8 +196,10 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
       while (end < quad_index.cols && row[end] == q) ++end;
       if (q >= 0) {
         cv::Vec4i& b = box[q];
-        b[0] = std::min(b[0], x); b[1] = std::min(b[1], y);
-        b[2] = std::max(b[2], end - 1); b[3] = std::max(b[3], y);
+        b[0] = std::min(b[0], x);
+        b[1] = std::min(b[1], y);
+        b[2] = std::max(b[2], end - 1);
+        b[3] = std::max(b[3], y);
       }
       x = end;
     }
@@ -210,7 +223,8 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
     const double j00 = (t(0, 0) - tx * t(2, 0)) / tw, j01 = (t(0, 1) - tx * t(2, 1)) / tw;
     const double j10 = (t(1, 0) - ty * t(2, 0)) / tw, j11 = (t(1, 1) - ty * t(2, 1)) / tw;
     const double texels_per_px = std::sqrt(std::abs(j00 * j11 - j01 * j10));
-    int level = texels_per_px > 1.0 ? static_cast<int>(std::floor(std::log2(texels_per_px) + 0.25)) : 0;
+    int level =
+        texels_per_px > 1.0 ? static_cast<int>(std::floor(std::log2(texels_per_px) + 0.25)) : 0;
     level = std::clamp(level, 0, static_cast<int>(texture.levels.size()) - 1);
     const double inv_scale = std::ldexp(1.0, -level);
     levels[q].image = &texture.levels[level];
@@ -238,7 +252,8 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
       const size_t step = img.step[0];
       const uchar* base = img.data;
       const float max_x = img.cols - 1.002f, max_y = img.rows - 1.002f;
-      double nx = h[0] * x + h[1] * y + h[2], ny = h[3] * x + h[4] * y + h[5], nw = h[6] * x + h[7] * y + h[8];
+      double nx = h[0] * x + h[1] * y + h[2], ny = h[3] * x + h[4] * y + h[5],
+             nw = h[6] * x + h[7] * y + h[8];
       for (; x < end; ++x) {
         const float inv_w = 1.0f / static_cast<float>(nw);
         const float tx = std::clamp(static_cast<float>(nx) * inv_w, 0.0f, max_x);
@@ -261,7 +276,8 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
   }
 }
 
-void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, RenderedFrame* out) {
+void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world,
+                      RenderedFrame* out) {
   const int w = camera_.width, h = camera_.height, s = supersample_;
   for (const DrawQuad& q : quads) CV_Assert(q.texture != nullptr && !q.texture->levels.empty());
   inv_depth_full_.create(h, w, CV_32F);
@@ -287,7 +303,8 @@ void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fro
   }
 
   std::vector<uchar> object_of(quads.size() + 1, 0);  // shifted by one: index -1 -> 0
-  for (size_t i = 0; i < quads.size(); ++i) object_of[i + 1] = static_cast<uchar>(quads[i].object_id);
+  for (size_t i = 0; i < quads.size(); ++i)
+    object_of[i + 1] = static_cast<uchar>(quads[i].object_id);
   out->depth_m.create(h, w, CV_32F);
   out->object_id.create(h, w, CV_8U);
   for (int y = 0; y < h; ++y) {

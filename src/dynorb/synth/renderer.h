@@ -13,10 +13,9 @@
 // Owns scratch buffers: one Renderer per thread.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
@@ -37,16 +36,18 @@ struct DrawQuad {
 };
 
 struct RenderedFrame {
-  cv::Mat rgb;        // CV_8UC3 BGR
-  cv::Mat depth_m;    // CV_32F: z (along the optical axis) at each pixel centre; 0 = no surface
-  cv::Mat object_id;  // CV_8U: moving object seen in any part of the pixel (its centre first); 0 = none
+  cv::Mat rgb;      // CV_8UC3 BGR
+  cv::Mat depth_m;  // CV_32F: z (along the optical axis) at each pixel centre; 0 = no surface
+  cv::Mat
+      object_id;  // CV_8U: moving object seen in any part of the pixel (its centre first); 0 = none
 };
 
 class Renderer {
  public:
   Renderer(const PinholeCamera& camera, int supersample = 2);
 
-  void Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, RenderedFrame* out);
+  void Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world,
+              RenderedFrame* out);
 
   static constexpr double kNearM = 0.05;  // near clipping plane
 
@@ -54,27 +55,27 @@ class Renderer {
   struct Prepared {
     bool visible = false;
     std::vector<Eigen::Vector2d> polygon;  // clipped, projected (pixels at this scale)
-    double a = 0, b = 0, c = 0;             // inverse depth = a * x + b * y + c
+    double a = 0, b = 0, c = 0;            // inverse depth = a * x + b * y + c
     Eigen::Matrix3d img_from_tex;          // level-0 texels -> pixels at this scale
     Eigen::Matrix3d tex_from_img;
-    double width_m = 0;                    // |axis_u|, for the sprite bulge
-    double near_z = 0;                     // nearest clipped corner (drawing order)
+    double width_m = 0;  // |axis_u|, for the sprite bulge
+    double near_z = 0;   // nearest clipped corner (drawing order)
   };
   static constexpr int kBlock = 16;  // pixels per block of the occlusion bound
 
   void Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
                std::vector<Prepared>* prepared) const;
   // Z-buffers all quads at this scale: inverse depth and winning quad index (-1 = none).
-  void Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared, cv::Mat* inv_depth,
-                 cv::Mat* quad_index);
+  void Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
+                 cv::Mat* inv_depth, cv::Mat* quad_index);
   void Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
              const cv::Mat& quad_index, cv::Mat* colour);
 
   PinholeCamera camera_;
   int supersample_;
   std::vector<Prepared> prepared_full_, prepared_super_;
-  std::vector<int> order_;         // visible quads, nearest first
-  std::vector<float> block_far_;   // per row and block: smallest inverse depth drawn (0 = none)
+  std::vector<int> order_;        // visible quads, nearest first
+  std::vector<float> block_far_;  // per row and block: smallest inverse depth drawn (0 = none)
   cv::Mat inv_depth_full_, index_full_, inv_depth_super_, index_super_, colour_super_;
 };
 

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "dynorb/core/pinhole_camera.h"
@@ -19,8 +18,8 @@ Texture GreyNoise(cv::Scalar colour) {
   return MakeTexture(NoisyColor(cv::Size(256, 256), colour, 0.2, 16.0, rng));
 }
 
-DrawQuad Rect(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Texture* t,
-              int id = 0) {
+DrawQuad Rect(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+              const Texture* t, int id = 0) {
   DrawQuad q;
   q.origin = origin;
   q.axis_u = u;
@@ -32,7 +31,8 @@ DrawQuad Rect(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eig
 }
 
 // Depth along the optical axis where the ray through pixel (u, v) meets the plane n.X = d.
-double PlaneDepth(const PinholeCamera& cam, double u, double v, const Eigen::Vector3d& n, double d) {
+double PlaneDepth(const PinholeCamera& cam, double u, double v, const Eigen::Vector3d& n,
+                  double d) {
   const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
   return d / n.dot(ray);
 }
@@ -41,8 +41,9 @@ TEST(Renderer, ProjectedPointLandsOnItsPixelWithItsDepth) {
   const PinholeCamera cam = TumFreiburg3Camera();
   const Texture wall = GreyNoise({200, 200, 200}), dot = GreyNoise({20, 20, 20});
   // A tilted wall and a 4 cm square marker in front of it, seen by a rotated, moved camera.
-  const Rigid3d world_from_cam(Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.3, 1.0, 0.1).normalized())),
-                               Eigen::Vector3d(0.4, -0.2, 0.1));
+  const Rigid3d world_from_cam(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.3, 1.0, 0.1).normalized())),
+      Eigen::Vector3d(0.4, -0.2, 0.1));
   const Rigid3d cam_from_world = world_from_cam.Inverse();
   const Eigen::Vector3d wall_o = world_from_cam * Eigen::Vector3d(-4, -3, 3.0);
   const Eigen::Vector3d wall_u = world_from_cam.rotation * Eigen::Vector3d(8, 0, 2.0);
@@ -51,7 +52,8 @@ TEST(Renderer, ProjectedPointLandsOnItsPixelWithItsDepth) {
   const Eigen::Vector3d point = world_from_cam * point_in_cam;
   const Eigen::Vector3d du = world_from_cam.rotation * Eigen::Vector3d(0.04, 0, 0);
   const Eigen::Vector3d dv = world_from_cam.rotation * Eigen::Vector3d(0, 0.04, 0);
-  std::vector<DrawQuad> quads = {Rect(wall_o, wall_u, wall_v, &wall), Rect(point - 0.5 * du - 0.5 * dv, du, dv, &dot, 7)};
+  std::vector<DrawQuad> quads = {Rect(wall_o, wall_u, wall_v, &wall),
+                                 Rect(point - 0.5 * du - 0.5 * dv, du, dv, &dot, 7)};
   for (int supersample : {1, 2, 3}) {
     Renderer renderer(cam, supersample);
     RenderedFrame frame;
@@ -61,7 +63,8 @@ TEST(Renderer, ProjectedPointLandsOnItsPixelWithItsDepth) {
     double su = 0, sv = 0, n = 0;
     for (int v = 0; v < cam.height; ++v)
       for (int u = 0; u < cam.width; ++u)
-        if (frame.object_id.at<uchar>(v, u) == 7 && std::abs(frame.depth_m.at<float>(v, u) - 2.0f) < 0.01f) {
+        if (frame.object_id.at<uchar>(v, u) == 7 &&
+            std::abs(frame.depth_m.at<float>(v, u) - 2.0f) < 0.01f) {
           su += u;
           sv += v;
           n += 1;
@@ -86,7 +89,8 @@ TEST(Renderer, ProjectedPointLandsOnItsPixelWithItsDepth) {
         if ((inside && !marked) || (outside && marked && supersample == 1)) ++mismatches;
       }
     EXPECT_EQ(mismatches, 0);
-    const int u0 = static_cast<int>(std::lround(px.x())), v0 = static_cast<int>(std::lround(px.y()));
+    const int u0 = static_cast<int>(std::lround(px.x())),
+              v0 = static_cast<int>(std::lround(px.y()));
     EXPECT_NEAR(frame.depth_m.at<float>(v0, u0), 2.0, 1e-5);
     EXPECT_LT(frame.rgb.at<cv::Vec3b>(v0, u0)[1], 60);
     // The wall's depth equals the analytic ray-plane intersection at every pixel centre.
@@ -124,8 +128,9 @@ TEST(Renderer, SpriteHasABodyShapedDepthAndAlphaTestedMask) {
   const Texture wall = GreyNoise({180, 180, 180});
   const Texture person = MakeSprite(MakeFigureSprites(5, 1, 400).front());
   const double height = 1.75, width = height * person.width() / person.height();
-  std::vector<DrawQuad> quads = {Rect({-5, -4, 4}, {10, 0, 0}, {0, 8, 0}, &wall),
-                                 Rect({-width / 2, -1.0, 2.0}, {width, 0, 0}, {0, height, 0}, &person, 1)};
+  std::vector<DrawQuad> quads = {
+      Rect({-5, -4, 4}, {10, 0, 0}, {0, 8, 0}, &wall),
+      Rect({-width / 2, -1.0, 2.0}, {width, 0, 0}, {0, height, 0}, &person, 1)};
   Renderer renderer(cam, 2);
   RenderedFrame frame;
   renderer.Render(quads, Rigid3d(), &frame);
@@ -160,7 +165,8 @@ TEST(PngWriter, RoundTripsThroughOpenCv) {
   rng.fill(depth, cv::RNG::UNIFORM, 0, 65536);
   for (const cv::Mat& img : {rgb, grey, depth}) {
     const std::string png = EncodePng(img);
-    const cv::Mat decoded = cv::imdecode(std::vector<uchar>(png.begin(), png.end()), cv::IMREAD_UNCHANGED);
+    const cv::Mat decoded =
+        cv::imdecode(std::vector<uchar>(png.begin(), png.end()), cv::IMREAD_UNCHANGED);
     ASSERT_EQ(decoded.type(), img.type());
     EXPECT_EQ(cv::norm(decoded, img, cv::NORM_INF), 0.0);
   }

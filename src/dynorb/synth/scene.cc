@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace dynorb::synth {
@@ -16,7 +15,8 @@ double SceneBuilder::LightAt(const Eigen::Vector3d& point, const Eigen::Vector3d
     if (cos_n <= 0.0) continue;
     double visibility = 1.0;
     for (const Occluder& o : occluders_) {
-      if (!((point.z() < o.z - 1e-3 && l.position.z() > o.z) || (point.z() > o.z + 1e-3 && l.position.z() < o.z)))
+      if (!((point.z() < o.z - 1e-3 && l.position.z() > o.z) ||
+            (point.z() > o.z + 1e-3 && l.position.z() < o.z)))
         continue;
       const double s = (o.z - point.z()) / to_light.z();
       const Eigen::Vector3d hit = point + s * to_light;
@@ -27,8 +27,8 @@ double SceneBuilder::LightAt(const Eigen::Vector3d& point, const Eigen::Vector3d
   return std::clamp(light, 0.3, 1.3);
 }
 
-cv::Mat SceneBuilder::Lit(const cv::Mat& bgr, const Eigen::Vector3d& origin, const Eigen::Vector3d& u,
-                          const Eigen::Vector3d& v) const {
+cv::Mat SceneBuilder::Lit(const cv::Mat& bgr, const Eigen::Vector3d& origin,
+                          const Eigen::Vector3d& u, const Eigen::Vector3d& v) const {
   const Eigen::Vector3d normal = v.cross(u).normalized();  // front side: u right, v down
   const int gx = std::clamp(static_cast<int>(u.norm() * 5) + 2, 2, 40);
   const int gy = std::clamp(static_cast<int>(v.norm() * 5) + 2, 2, 40);
@@ -46,8 +46,9 @@ cv::Mat SceneBuilder::Lit(const cv::Mat& bgr, const Eigen::Vector3d& origin, con
   return out;
 }
 
-void SceneBuilder::AddRect(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
-                           const TextureMaker& make, double px_per_m, double cell_m, int object_id) {
+void SceneBuilder::AddRect(const Eigen::Vector3d& origin, const Eigen::Vector3d& u,
+                           const Eigen::Vector3d& v, const TextureMaker& make, double px_per_m,
+                           double cell_m, int object_id) {
   const cv::Size size(std::clamp(static_cast<int>(u.norm() * px_per_m), 4, 2048),
                       std::clamp(static_cast<int>(v.norm() * px_per_m), 4, 2048));
   const Texture* texture = scene_->Add(MakeTexture(Lit(make(size), origin, u, v)));
@@ -61,7 +62,8 @@ void SceneBuilder::AddRect(const Eigen::Vector3d& origin, const Eigen::Vector3d&
       q.axis_v = v / nv;
       q.texture = texture;
       // Texel edges: the quad's a in [0,1] covers [-0.5, W-0.5] of the texture.
-      const double tw = static_cast<double>(size.width) / nu, th = static_cast<double>(size.height) / nv;
+      const double tw = static_cast<double>(size.width) / nu,
+                   th = static_cast<double>(size.height) / nv;
       q.tex_rect = cv::Rect2d(-0.5 + i * tw, -0.5 + j * th, tw, th);
       q.object_id = object_id;
       scene_->static_quads.push_back(q);
@@ -69,29 +71,35 @@ void SceneBuilder::AddRect(const Eigen::Vector3d& origin, const Eigen::Vector3d&
   }
 }
 
-void SceneBuilder::AddPicture(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
-                              const cv::Mat& bgr) {
+void SceneBuilder::AddPicture(const Eigen::Vector3d& origin, const Eigen::Vector3d& u,
+                              const Eigen::Vector3d& v, const cv::Mat& bgr) {
   const double px_per_m = std::max(bgr.cols / u.norm(), bgr.rows / v.norm());
-  AddRect(origin, u, v, [&bgr](cv::Size size) {
-    cv::Mat resized;
-    cv::resize(bgr, resized, size, 0, 0, cv::INTER_AREA);
-    return resized;
-  }, std::min(px_per_m, 1200.0));
+  AddRect(
+      origin, u, v,
+      [&bgr](cv::Size size) {
+        cv::Mat resized;
+        cv::resize(bgr, resized, size, 0, 0, cv::INTER_AREA);
+        return resized;
+      },
+      std::min(px_per_m, 1200.0));
 }
 
 std::vector<DrawQuad> SceneBuilder::MakeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                            const TextureMaker& sides, double px_per_m, const TextureMaker& top,
-                                            int object_id) {
+                                            const TextureMaker& sides, double px_per_m,
+                                            const TextureMaker& top, int object_id) {
   const Eigen::Vector3d d = hi - lo;
   const Eigen::Vector3d ex(d.x(), 0, 0), ey(0, d.y(), 0), ez(0, 0, d.z());
-  struct Face { Eigen::Vector3d origin, u, v; bool is_top; };
+  struct Face {
+    Eigen::Vector3d origin, u, v;
+    bool is_top;
+  };
   // Each face as seen from outside: texture x along u (right), y along v (down).
   const Face faces[5] = {
-      {lo + ez, ex, -ez, false},                 // front (-y)
-      {lo + ex + ey + ez, -ex, -ez, false},      // back (+y)
-      {lo + ey + ez, -ey, -ez, false},           // left (-x)
-      {lo + ex + ez, ey, -ez, false},            // right (+x)
-      {lo + ey + ez, ex, -ey, true},             // top (+z)
+      {lo + ez, ex, -ez, false},             // front (-y)
+      {lo + ex + ey + ez, -ex, -ez, false},  // back (+y)
+      {lo + ey + ez, -ey, -ez, false},       // left (-x)
+      {lo + ex + ez, ey, -ez, false},        // right (+x)
+      {lo + ey + ez, ex, -ey, true},         // top (+z)
   };
   std::vector<DrawQuad> quads;
   for (const Face& f : faces) {
@@ -111,8 +119,8 @@ std::vector<DrawQuad> SceneBuilder::MakeBox(const Eigen::Vector3d& lo, const Eig
   return quads;
 }
 
-void SceneBuilder::AddBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const TextureMaker& sides,
-                          double px_per_m, const TextureMaker& top) {
+void SceneBuilder::AddBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                          const TextureMaker& sides, double px_per_m, const TextureMaker& top) {
   for (const DrawQuad& q : MakeBox(lo, hi, sides, px_per_m, top)) scene_->static_quads.push_back(q);
 }
 

@@ -8,12 +8,11 @@
 // immutable once built and may be shared by rendering threads.
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <memory>
-#include <vector>
-
-#include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "dynorb/synth/renderer.h"
 #include "dynorb/synth/texture.h"
@@ -37,9 +36,13 @@ class SceneBuilder {
  public:
   explicit SceneBuilder(Scene* scene) : scene_(scene) {}
 
-  void AddLight(const Eigen::Vector3d& position, double power) { lights_.push_back({position, power}); }
+  void AddLight(const Eigen::Vector3d& position, double power) {
+    lights_.push_back({position, power});
+  }
   // A horizontal rectangle [x0,x1]x[y0,y1] at height z that casts soft shadows downwards.
-  void AddOccluder(double x0, double y0, double x1, double y1, double z) { occluders_.push_back({x0, y0, x1, y1, z}); }
+  void AddOccluder(double x0, double y0, double x1, double y1, double z) {
+    occluders_.push_back({x0, y0, x1, y1, z});
+  }
 
   // Light factor (1 = texture shown as is) at a point with the given unit normal.
   double LightAt(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) const;
@@ -55,14 +58,20 @@ class SceneBuilder {
 
   // The five visible faces (no bottom) of the axis-aligned box [lo, hi] as quads, lit where they
   // stand, faces facing outwards. `top` may differ from the sides; an empty `top` uses `sides`.
-  std::vector<DrawQuad> MakeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const TextureMaker& sides,
-                                double px_per_m, const TextureMaker& top = {}, int object_id = 0);
-  void AddBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const TextureMaker& sides, double px_per_m,
-              const TextureMaker& top = {});
+  std::vector<DrawQuad> MakeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                const TextureMaker& sides, double px_per_m,
+                                const TextureMaker& top = {}, int object_id = 0);
+  void AddBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const TextureMaker& sides,
+              double px_per_m, const TextureMaker& top = {});
 
  private:
-  struct Light { Eigen::Vector3d position; double power; };
-  struct Occluder { double x0, y0, x1, y1, z; };
+  struct Light {
+    Eigen::Vector3d position;
+    double power;
+  };
+  struct Occluder {
+    double x0, y0, x1, y1, z;
+  };
   cv::Mat Lit(const cv::Mat& bgr, const Eigen::Vector3d& origin, const Eigen::Vector3d& u,
               const Eigen::Vector3d& v) const;
 

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace dynorb::synth {
 namespace {
@@ -15,7 +14,8 @@ constexpr double kFocalBaseline = 580.0 * 0.075;  // Kinect v1 IR focal length (
 // constant seed) indexed by a seeded xorshift64* generator; ~10x faster than cv::RNG's normals.
 class FastNormal {
  public:
-  explicit FastNormal(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ULL + 0x2545F4914F6CDD1DULL) {
+  explicit FastNormal(uint64_t seed)
+      : state_(seed * 0x9E3779B97F4A7C15ULL + 0x2545F4914F6CDD1DULL) {
     if (state_ == 0) state_ = 1;
   }
   float operator()() {
@@ -49,7 +49,9 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
       uint16_t* o = out.ptr<uint16_t>(y);
       for (int x = 0; x < w; ++x) {
         const double z = d[x];
-        o[x] = (z > 0.0 && z <= options.max_depth_m) ? static_cast<uint16_t>(std::lround(z * options.depth_factor)) : 0;
+        o[x] = (z > 0.0 && z <= options.max_depth_m)
+                   ? static_cast<uint16_t>(std::lround(z * options.depth_factor))
+                   : 0;
       }
     }
     return out;
@@ -79,7 +81,8 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
       if (std::abs(a - b) > limit || std::abs(up[x] - b) > limit) e[x] = 1;
       if (b > 0.0f && a > b + 0.1f) {
         const double far = a > 0.0f ? a : 10.0;
-        const int width = static_cast<int>(0.5 * kFocalBaseline * (1.0 / b - 1.0 / far) + rng.uniform(0.0, 1.0));
+        const int width =
+            static_cast<int>(0.5 * kFocalBaseline * (1.0 / b - 1.0 / far) + rng.uniform(0.0, 1.0));
         for (int k = 1; k <= width && x - k >= 0; ++k) inv[x - k] = 1;
       }
     }
@@ -114,7 +117,8 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
       if (f[x] > 1.45f) continue;  // ~0.2 % of the pixels
       const double sigma = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4);
       const double noisy = z + sigma * (c[x] + f[x]);
-      const double steps = static_cast<double>(static_cast<int64_t>(kFocalBaseline / (noisy * q) + 0.5));
+      const double steps =
+          static_cast<double>(static_cast<int64_t>(kFocalBaseline / (noisy * q) + 0.5));
       const double zq = kFocalBaseline / (steps * q);  // steps >= 77 for z <= 4.5 m
       o[x] = static_cast<uint16_t>(std::min(65535.0, zq * options.depth_factor + 0.5));
     }
@@ -122,8 +126,8 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
   return out;
 }
 
-void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, const SensorOptions& options,
-                     uint64_t seed) {
+void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain,
+                     const SensorOptions& options, uint64_t seed) {
   if (!options.noise) return;
   cv::Mat& img = *rgb;
   // The Kinect's RGB optics and demosaicing are soft.

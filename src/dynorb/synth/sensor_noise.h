@@ -6,21 +6,20 @@
 // no depth beyond `max_depth_m` (ragged), in ragged bands along depth discontinuities, in the
 // projector's shadow left of foreground edges, in a band at the right border, and at a few random
 // speckles; stored as uint16 with factor 5000.
-// RGB: slight optical softness, motion blur along the image motion (exposure ~ 40 % of the frame interval), slight
-// vignetting, an auto-exposure gain, and shot + read noise.
-// All random draws come from a generator seeded per frame: results depend only on the inputs.
-// Pure functions; thread-safe.
+// RGB: slight optical softness, motion blur along the image motion (exposure ~ 40 % of the frame
+// interval), slight vignetting, an auto-exposure gain, and shot + read noise. All random draws come
+// from a generator seeded per frame: results depend only on the inputs. Pure functions;
+// thread-safe.
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 namespace dynorb::synth {
 
 struct SensorOptions {
-  bool noise = true;          // false: exact depth (quantised to 1/5000 m), clean RGB
-  double max_depth_m = 4.5;   // farther surfaces have no depth (also without noise)
+  bool noise = true;         // false: exact depth (quantised to 1/5000 m), clean RGB
+  double max_depth_m = 4.5;  // farther surfaces have no depth (also without noise)
   double depth_factor = 5000.0;
   double exposure_fraction = 0.4;  // motion blur length = this * image motion per frame
 };
@@ -30,7 +29,7 @@ cv::Mat DepthToSensor(const cv::Mat& depth_m, const SensorOptions& options, uint
 
 // In-place on a CV_8UC3 image. motion_px: image motion per frame (blur direction and length);
 // gain: auto-exposure multiplier.
-void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain, const SensorOptions& options,
-                     uint64_t seed);
+void ApplyRgbEffects(cv::Mat* rgb, const cv::Point2d& motion_px, double gain,
+                     const SensorOptions& options, uint64_t seed);
 
 }  // namespace dynorb::synth

@@ -5,7 +5,6 @@
 #include <sstream>
 #include <system_error>
 
-
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/io/trajectory_io.h"
@@ -25,7 +24,8 @@ void SequenceWriter::CheckTarget(const std::string& dir, bool force) {
   std::error_code ec;
   if (dir.empty()) throw InputError("no output directory given");
   if (!fs::exists(dir, ec)) return;
-  if (!fs::is_directory(dir, ec)) throw InputError("output path exists and is not a directory: " + dir);
+  if (!fs::is_directory(dir, ec))
+    throw InputError("output path exists and is not a directory: " + dir);
   if (!force && !fs::is_empty(dir, ec))
     throw InputError("output directory is not empty: " + dir + " (use --force to overwrite)");
 }
@@ -37,7 +37,9 @@ SequenceWriter::SequenceWriter(std::string dir, bool force) : dir_(std::move(dir
     for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(fs::path(dir_) / sub, ec);
   for (const char* sub : {"rgb", "depth", "masks"}) {
     fs::create_directories(fs::path(dir_) / sub, ec);
-    if (ec) throw InputError("cannot create output directory " + (fs::path(dir_) / sub).string() + ": " + ec.message());
+    if (ec)
+      throw InputError("cannot create output directory " + (fs::path(dir_) / sub).string() + ": " +
+                       ec.message());
   }
   // Fail early (before any rendering) if the directory is not writable.
   WriteFileAtomically((fs::path(dir_) / ".write_test").string(), "");
@@ -50,20 +52,22 @@ std::string SequenceWriter::Stamp(double timestamp_s) {
   return buf;
 }
 
-void SequenceWriter::WriteFrame(double rgb_ts, double depth_ts, const cv::Mat& rgb, const cv::Mat& depth_u16,
-                                const cv::Mat& mask) const {
+void SequenceWriter::WriteFrame(double rgb_ts, double depth_ts, const cv::Mat& rgb,
+                                const cv::Mat& depth_u16, const cv::Mat& mask) const {
   const fs::path root(dir_);
   WritePng((root / "rgb" / (Stamp(rgb_ts) + ".png")).string(), rgb);
   WritePng((root / "depth" / (Stamp(depth_ts) + ".png")).string(), depth_u16);
   WritePng((root / "masks" / (Stamp(rgb_ts) + ".png")).string(), mask);
 }
 
-void SequenceWriter::WriteIndex(const std::vector<double>& rgb_ts, const std::vector<double>& depth_ts,
+void SequenceWriter::WriteIndex(const std::vector<double>& rgb_ts,
+                                const std::vector<double>& depth_ts,
                                 const Trajectory& groundtruth) const {
   std::ostringstream rgb, depth, masks, assoc;
   rgb << "# color images\n# file: 'dynorb synth'\n# timestamp filename\n";
   depth << "# depth maps\n# file: 'dynorb synth'\n# timestamp filename\n";
-  masks << "# moving-object masks (pixel = object id, 0 = static)\n# file: 'dynorb synth'\n# timestamp filename\n";
+  masks << "# moving-object masks (pixel = object id, 0 = static)\n# file: 'dynorb synth'\n# "
+           "timestamp filename\n";
   for (size_t i = 0; i < rgb_ts.size(); ++i) {
     const std::string r = Stamp(rgb_ts[i]), d = Stamp(depth_ts[i]);
     rgb << r << " rgb/" << r << ".png\n";
@@ -96,7 +100,8 @@ std::string SequenceWriter::CameraYaml(const PinholeCamera& c, double fps, doubl
     << "Camera.fx: " << num(c.fx) << "\nCamera.fy: " << num(c.fy) << "\nCamera.cx: " << num(c.cx)
     << "\nCamera.cy: " << num(c.cy) << "\nCamera.k1: " << num(c.k1) << "\nCamera.k2: " << num(c.k2)
     << "\nCamera.p1: " << num(c.p1) << "\nCamera.p2: " << num(c.p2) << "\nCamera.k3: " << num(c.k3)
-    << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height << "\nCamera.fps: " << num(fps)
+    << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height
+    << "\nCamera.fps: " << num(fps)
     << "\nCamera.bf: 40.0\nCamera.RGB: 1\nThDepth: 40.0\nDepthMapFactor: " << num(depth_factor)
     << "\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8"
     << "\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";

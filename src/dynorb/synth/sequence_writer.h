@@ -7,10 +7,9 @@
 // for different frames; the rest is single-threaded.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/trajectory.h"

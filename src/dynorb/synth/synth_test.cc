@@ -1,12 +1,9 @@
-#include "dynorb/synth/synthesizer.h"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
-
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -15,6 +12,7 @@
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
 #include "dynorb/synth/sequence_writer.h"
+#include "dynorb/synth/synthesizer.h"
 
 namespace dynorb::synth {
 namespace {
@@ -31,7 +29,8 @@ SynthOptions Options(bool noise, bool twin = false) {
 }
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("dynorb_synth_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("dynorb_synth_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -55,7 +54,8 @@ SequenceSynth* SynthSequence::twin_ = nullptr;
 
 // Mean absolute grey-level difference between frame b and frame a warped into b with b's true
 // depth and the given relative pose, over static pixels with depth.
-double WarpError(const SynthFrame& a, const SynthFrame& b, const Rigid3d& a_from_b, const PinholeCamera& cam) {
+double WarpError(const SynthFrame& a, const SynthFrame& b, const Rigid3d& a_from_b,
+                 const PinholeCamera& cam) {
   cv::Mat grey_a, grey_b;
   cv::cvtColor(a.rgb, grey_a, cv::COLOR_BGR2GRAY);
   cv::cvtColor(b.rgb, grey_b, cv::COLOR_BGR2GRAY);
@@ -69,10 +69,12 @@ double WarpError(const SynthFrame& a, const SynthFrame& b, const Rigid3d& a_from
       if (p.z() < 0.1) continue;
       const Eigen::Vector2d q = cam.Project(p);
       if (q.x() < 1 || q.y() < 1 || q.x() > cam.width - 2 || q.y() > cam.height - 2) continue;
-      const int qu = static_cast<int>(std::lround(q.x())), qv = static_cast<int>(std::lround(q.y()));
+      const int qu = static_cast<int>(std::lround(q.x())),
+                qv = static_cast<int>(std::lround(q.y()));
       if (a.mask.at<uchar>(qv, qu)) continue;
       cv::Mat patch;
-      cv::getRectSubPix(grey_a, cv::Size(1, 1), cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y())), patch,
+      cv::getRectSubPix(grey_a, cv::Size(1, 1),
+                        cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y())), patch,
                         CV_32F);
       sum += std::abs(patch.at<float>(0, 0) - grey_b.at<uchar>(v, u));
       ++n;
@@ -89,10 +91,12 @@ TEST_F(SynthSequence, GroundTruthPosesAndDepthExplainTheImages) {
   const Rigid3d a_from_b = f0.world_from_cam.Inverse() * f1.world_from_cam;
   const double error = WarpError(f0, f1, a_from_b, clean_->camera());
   // A 1 cm / 0.3 degree error in the relative pose makes the warp clearly worse.
-  const Rigid3d wrong = a_from_b * Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitY())),
-                                           Eigen::Vector3d(0.01, 0, 0));
+  const Rigid3d wrong =
+      a_from_b * Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitY())),
+                         Eigen::Vector3d(0.01, 0, 0));
   const double wrong_error = WarpError(f0, f1, wrong, clean_->camera());
-  std::cout << "warp error: true poses " << error << ", perturbed " << wrong_error << " grey levels\n";
+  std::cout << "warp error: true poses " << error << ", perturbed " << wrong_error
+            << " grey levels\n";
   EXPECT_LT(error, 3.0);
   EXPECT_GT(wrong_error, 1.5 * error);
 }
@@ -127,10 +131,13 @@ TEST_F(SynthSequence, ImagesHavePlentyOfWellSpreadOrbFeatures) {
   std::vector<cv::KeyPoint> keypoints;
   cv::ORB::create(2000)->detect(grey, keypoints);
   cv::Mat cells = cv::Mat::zeros(6, 8, CV_8U);
-  for (const cv::KeyPoint& k : keypoints) cells.at<uchar>(static_cast<int>(k.pt.y / 80), static_cast<int>(k.pt.x / 80)) = 1;
-  std::cout << "ORB keypoints: " << keypoints.size() << ", cells covered " << cv::countNonZero(cells) << "/48\n";
+  for (const cv::KeyPoint& k : keypoints)
+    cells.at<uchar>(static_cast<int>(k.pt.y / 80), static_cast<int>(k.pt.x / 80)) = 1;
+  std::cout << "ORB keypoints: " << keypoints.size() << ", cells covered "
+            << cv::countNonZero(cells) << "/48\n";
   EXPECT_GE(keypoints.size(), 1000u);
-  EXPECT_GE(cv::countNonZero(cells), 33);  // >= 2/3 of the image (white panels, desk tops are plain)
+  EXPECT_GE(cv::countNonZero(cells),
+            33);  // >= 2/3 of the image (white panels, desk tops are plain)
 }
 
 TEST_F(SynthSequence, FramesAreDeterministic) {
@@ -152,8 +159,8 @@ TEST(Synthesize, WritesATumSequenceThatTheLoaderReadsBack) {
   o.threads = 2;
   const SynthReport report = Synthesize(o);
   EXPECT_EQ(report.frames, 3);
-  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt", "camera.yaml", "scene.yaml", "associations.txt",
-                        "masks.txt", "objects.txt"})
+  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt", "camera.yaml", "scene.yaml",
+                        "associations.txt", "masks.txt", "objects.txt"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   TumSequence sequence(dir.string());
   ASSERT_EQ(sequence.size(), 3u);
@@ -176,7 +183,8 @@ TEST(Synthesize, WritesATumSequenceThatTheLoaderReadsBack) {
     int valid = 0, close = 0;
     for (int v = 0; v < 480; v += 4)
       for (int u = 0; u < 640; u += 4) {
-        const float measured = frame.depth_m.at<float>(v, u), truth = expected.depth_m.at<float>(v, u);
+        const float measured = frame.depth_m.at<float>(v, u),
+                    truth = expected.depth_m.at<float>(v, u);
         if (measured <= 0) continue;
         ++valid;
         if (std::abs(measured - truth) < 0.01f + 0.01f * truth * truth) ++close;
@@ -184,8 +192,9 @@ TEST(Synthesize, WritesATumSequenceThatTheLoaderReadsBack) {
       }
     EXPECT_GT(valid, 0.5 * 160 * 120);
     EXPECT_GT(close, 0.97 * valid);
-    const cv::Mat mask = cv::imread((dir / "masks" / (SequenceWriter::Stamp(frame.timestamp_s) + ".png")).string(),
-                                    cv::IMREAD_UNCHANGED);
+    const cv::Mat mask =
+        cv::imread((dir / "masks" / (SequenceWriter::Stamp(frame.timestamp_s) + ".png")).string(),
+                   cv::IMREAD_UNCHANGED);
     ASSERT_EQ(mask.type(), CV_8UC1);
     EXPECT_EQ(cv::norm(mask, expected.mask, cv::NORM_INF), 0.0);
   }
@@ -244,7 +253,8 @@ TEST(Synthesize, RejectsBadInputWithAClearError) {
 TEST(CameraPath, ReexpressesARealTrajectoryFromTheStartPose) {
   Trajectory gt;
   for (int i = 0; i < 5; ++i) {
-    const Eigen::Quaterniond q(Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d(0.2, 0.9, 0.1).normalized()));
+    const Eigen::Quaterniond q(
+        Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d(0.2, 0.9, 0.1).normalized()));
     gt.push_back({100.0 + 0.1 * i, Rigid3d(q, Eigen::Vector3d(0.3 * i, -1.0 + 0.05 * i * i, 1.4))});
   }
   const Rigid3d start = LookAt(Eigen::Vector3d(3, 1, 1.4), Eigen::Vector3d(3, 4, 0.8));
@@ -256,8 +266,10 @@ TEST(CameraPath, ReexpressesARealTrajectoryFromTheStartPose) {
   const Rigid3d rel_real = gt[1].world_from_cam.Inverse() * gt[3].world_from_cam;
   EXPECT_LT((rel_synth.translation - rel_real.translation).norm(), 1e-9);
   EXPECT_LT(RotationAngleRad(rel_synth.rotation * rel_real.rotation.conjugate()), 1e-9);
-  const Rigid3d mid = start * gt[0].world_from_cam.Inverse() * Rigid3d(gt[1].world_from_cam.rotation.slerp(0.5, gt[2].world_from_cam.rotation),
-                                                                        0.5 * (gt[1].world_from_cam.translation + gt[2].world_from_cam.translation));
+  const Rigid3d mid =
+      start * gt[0].world_from_cam.Inverse() *
+      Rigid3d(gt[1].world_from_cam.rotation.slerp(0.5, gt[2].world_from_cam.rotation),
+              0.5 * (gt[1].world_from_cam.translation + gt[2].world_from_cam.translation));
   EXPECT_LT((path.WorldFromCam(0.15).translation - mid.translation).norm(), 1e-9);
 }
 

@@ -6,11 +6,10 @@
 #include <exception>
 #include <filesystem>
 #include <mutex>
-#include <sstream>
-#include <thread>
-
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <thread>
 
 #include "dynorb/core/error.h"
 #include "dynorb/io/trajectory_io.h"
@@ -51,12 +50,15 @@ std::vector<std::pair<std::string, cv::Mat>> LoadCutouts(const std::string& dir)
 }  // namespace
 
 void SynthOptions::Validate() const {
-  if (!FindPreset(preset)) throw InputError("unknown preset '" + preset + "' (known: " + PresetNames() + ")");
+  if (!FindPreset(preset))
+    throw InputError("unknown preset '" + preset + "' (known: " + PresetNames() + ")");
   if (frames < 0) throw InputError("--frames must be >= 0");
-  if (num_people < 0 || num_people > 3) throw InputError("the number of people must be 1..3 (0 = default)");
+  if (num_people < 0 || num_people > 3)
+    throw InputError("the number of people must be 1..3 (0 = default)");
   if (supersample < 1 || supersample > 4) throw InputError("supersample must be 1..4");
   if (threads < 0) throw InputError("threads must be >= 0");
-  if (!people_dir.empty() && !fs::is_directory(people_dir)) throw InputError("people directory not found: " + people_dir);
+  if (!people_dir.empty() && !fs::is_directory(people_dir))
+    throw InputError("people directory not found: " + people_dir);
   if (texture_dir_explicit && !fs::is_directory(texture_dir))
     throw InputError("texture directory not found: " + texture_dir);
   if (!trajectory_file.empty() && !fs::is_regular_file(trajectory_file))
@@ -72,12 +74,15 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
   // Cut-outs first: a bad people directory fails before the scene is built.
   const auto cutouts = options_.people_dir.empty() ? std::vector<std::pair<std::string, cv::Mat>>{}
                                                    : LoadCutouts(options_.people_dir);
-  const bool have_textures = !options_.texture_dir.empty() && fs::is_directory(options_.texture_dir);
-  if (!have_textures) warnings_.push_back("texture directory " + options_.texture_dir + " not found: procedural textures only");
+  const bool have_textures =
+      !options_.texture_dir.empty() && fs::is_directory(options_.texture_dir);
+  if (!have_textures)
+    warnings_.push_back("texture directory " + options_.texture_dir +
+                        " not found: procedural textures only");
   PhotoLibrary photos(have_textures ? options_.texture_dir : "", options_.texture_dir_explicit);
   if (have_textures && !photos.missing().empty())
-    warnings_.push_back(std::to_string(photos.missing().size()) + " photographs missing in " + options_.texture_dir +
-                        ": procedural stand-ins used");
+    warnings_.push_back(std::to_string(photos.missing().size()) + " photographs missing in " +
+                        options_.texture_dir + ": procedural stand-ins used");
   office_ = std::make_unique<Office>();
   BuildOffice(options_.seed, photos, office_.get());
 
@@ -91,15 +96,19 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
       timestamps_source_ = assoc.string();
       if (options_.frames > 0 && options_.frames < num_frames()) times_.resize(options_.frames);
       if (options_.frames > num_frames())
-        warnings_.push_back("only " + std::to_string(num_frames()) + " frames in " + assoc.string());
+        warnings_.push_back("only " + std::to_string(num_frames()) + " frames in " +
+                            assoc.string());
     } else {
-      const int n = options_.frames > 0 ? options_.frames : static_cast<int>(path_->duration_s() * 30.0) + 1;
+      const int n =
+          options_.frames > 0 ? options_.frames : static_cast<int>(path_->duration_s() * 30.0) + 1;
       times_ = MakeFrameTimes(n, path_->first_timestamp_s(), options_.seed);
       timestamps_source_ = "30 Hz from the trajectory start";
     }
   } else {
-    path_ = std::make_unique<CameraPath>(preset_, office_->camera_anchor, office_->look_at, options_.seed);
-    const int n = options_.frames > 0 ? options_.frames : static_cast<int>(preset_.duration_s * 30.0);
+    path_ = std::make_unique<CameraPath>(preset_, office_->camera_anchor, office_->look_at,
+                                         options_.seed);
+    const int n =
+        options_.frames > 0 ? options_.frames : static_cast<int>(preset_.duration_s * 30.0);
     times_ = MakeFrameTimes(n, kPresetStartTimestamp, options_.seed);
     timestamps_source_ = "30 Hz";
   }
@@ -110,7 +119,8 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
     std::vector<size_t> order(cutouts.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     cv::RNG rng(Mix(options_.seed, 11));
-    for (size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng.uniform(0, static_cast<int>(i))]);
+    for (size_t i = order.size(); i > 1; --i)
+      std::swap(order[i - 1], order[rng.uniform(0, static_cast<int>(i))]);
     for (int i = 0; i < people; ++i) {
       const auto& [name, image] = cutouts[order[i % order.size()]];
       sprite_textures_.push_back(std::make_unique<Texture>(MakeSprite(image)));
@@ -128,7 +138,8 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
   }
   for (const PersonLook& l : looks) sprite_names_.push_back(l.source);
   const double duration = times_.back().t_s + 1.0 / 30.0;
-  movers_ = std::make_unique<Movers>(*office_, preset_.sitting, people, duration, options_.seed, std::move(looks));
+  movers_ = std::make_unique<Movers>(*office_, preset_.sitting, people, duration, options_.seed,
+                                     std::move(looks));
 }
 
 std::unique_ptr<Renderer> SequenceSynth::MakeRenderer() const {
@@ -169,23 +180,31 @@ SynthFrame SequenceSynth::RenderFrame(int index, Renderer* renderer) const {
 std::string SequenceSynth::SceneYaml() const {
   std::ostringstream s;
   s.precision(10);
-  s << "# dynorb synthetic sequence: every generation parameter. Regenerate bit-identically with the\n"
-    << "# same dynorb version, photographs and people cut-outs:\n#   " << options_.command_line << "\n"
+  s << "# dynorb synthetic sequence: every generation parameter. Regenerate bit-identically with "
+       "the\n"
+    << "# same dynorb version, photographs and people cut-outs:\n#   " << options_.command_line
+    << "\n"
     << "generator: dynorb synth\nsynth_version: " << kSynthVersion << "\n"
     << "preset: " << options_.preset << "\nseed: " << options_.seed << "\nframes: " << num_frames()
-    << "\nframes_option: " << options_.frames << "\nfps: 30\nstatic_twin: " << (options_.static_twin ? "true" : "false")
-    << "\nnoise: " << (options_.noise ? "true" : "false") << "\nsupersample: " << options_.supersample
-    << "\npeople: " << sprite_names_.size() << "\npeople_dir: '" << options_.people_dir << "'\npeople_sprites: [";
+    << "\nframes_option: " << options_.frames
+    << "\nfps: 30\nstatic_twin: " << (options_.static_twin ? "true" : "false")
+    << "\nnoise: " << (options_.noise ? "true" : "false")
+    << "\nsupersample: " << options_.supersample << "\npeople: " << sprite_names_.size()
+    << "\npeople_dir: '" << options_.people_dir << "'\npeople_sprites: [";
   for (size_t i = 0; i < sprite_names_.size(); ++i) s << (i ? ", " : "") << sprite_names_[i];
   s << "]\nperson_heights_m: [";
-  for (size_t i = 0; i < movers_->person_heights().size(); ++i) s << (i ? ", " : "") << movers_->person_heights()[i];
+  for (size_t i = 0; i < movers_->person_heights().size(); ++i)
+    s << (i ? ", " : "") << movers_->person_heights()[i];
   s << "]\ntexture_dir: '" << options_.texture_dir << "'\ntrajectory: '" << options_.trajectory_file
-    << "'\ntimestamps: '" << timestamps_source_ << "'\nscene: office_v1  # 6 x 5 x 3 m room, desks, hall beyond\n"
-    << "camera: {fx: " << camera_.fx << ", fy: " << camera_.fy << ", cx: " << camera_.cx << ", cy: " << camera_.cy
-    << ", width: " << camera_.width << ", height: " << camera_.height << "}\n"
+    << "'\ntimestamps: '" << timestamps_source_
+    << "'\nscene: office_v1  # 6 x 5 x 3 m room, desks, hall beyond\n"
+    << "camera: {fx: " << camera_.fx << ", fy: " << camera_.fy << ", cx: " << camera_.cx
+    << ", cy: " << camera_.cy << ", width: " << camera_.width << ", height: " << camera_.height
+    << "}\n"
     << "depth_factor: " << sensor_.depth_factor << "\nmax_depth_m: " << sensor_.max_depth_m
     << "\nexposure_fraction: " << sensor_.exposure_fraction
-    << "\nobject_ids: {1: person, 2: person, 3: person, 4: pushed box, 5: desk item (static, then moved)}\n";
+    << "\nobject_ids: {1: person, 2: person, 3: person, 4: pushed box, 5: desk item (static, then "
+       "moved)}\n";
   return s.str();
 }
 
@@ -196,7 +215,8 @@ SynthReport Synthesize(const SynthOptions& options, const ProgressFn& progress) 
   SequenceSynth synth(options);  // bad input fails here, before anything is written
   SequenceWriter writer(options.out_dir, options.force);
   const int n = synth.num_frames();
-  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+  int threads =
+      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, std::max(1, n));
 
   std::vector<StampedPose> groundtruth(n);
@@ -219,8 +239,9 @@ SynthReport Synthesize(const SynthOptions& options, const ProgressFn& progress) 
         for (const ObjectState& o : f.objects) {
           const Eigen::Quaterniond& q = o.world_from_object.rotation;
           const Eigen::Vector3d& p = o.world_from_object.translation;
-          line << SequenceWriter::Stamp(f.time.rgb_ts) << ' ' << o.id << ' ' << (o.moving ? 1 : 0) << ' ' << p.x()
-               << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+          line << SequenceWriter::Stamp(f.time.rgb_ts) << ' ' << o.id << ' ' << (o.moving ? 1 : 0)
+               << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y()
+               << ' ' << q.z() << ' ' << q.w() << '\n';
         }
         object_lines[k] = line.str();
         ++done;
@@ -248,7 +269,8 @@ SynthReport Synthesize(const SynthOptions& options, const ProgressFn& progress) 
     depth_ts.push_back(t.depth_ts);
   }
   writer.WriteIndex(rgb_ts, depth_ts, groundtruth);
-  std::string objects = "# moving objects per frame: timestamp id moving tx ty tz qx qy qz qw (world_from_object)\n";
+  std::string objects =
+      "# moving objects per frame: timestamp id moving tx ty tz qx qy qz qw (world_from_object)\n";
   for (const std::string& l : object_lines) objects += l;
   writer.WriteText("objects.txt", objects);
   writer.WriteText("camera.yaml", SequenceWriter::CameraYaml(synth.camera(), 30.0, 5000.0));

@@ -12,10 +12,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
@@ -34,18 +33,18 @@ struct SynthOptions {
   std::string preset = "walking_xyz";  // one of Presets() (camera motion, duration, people mode)
   uint64_t seed = 1;                   // drives layout details, paths, noise
   std::string out_dir;                 // output directory (Synthesize only)
-  int frames = 0;                      // number of frames; 0 = the preset's (or trajectory's) duration
-  bool static_twin = false;            // remove every moving object
-  std::string people_dir;              // RGBA *.png cut-outs of real people; empty = procedural figures
-  int num_people = 0;                  // 1..3; 0 = 2 (sitting presets) or 3 (walking presets)
+  int frames = 0;            // number of frames; 0 = the preset's (or trajectory's) duration
+  bool static_twin = false;  // remove every moving object
+  std::string people_dir;    // RGBA *.png cut-outs of real people; empty = procedural figures
+  int num_people = 0;        // 1..3; 0 = 2 (sitting presets) or 3 (walking presets)
   std::string texture_dir = kDefaultTextureDir;  // photographs (opencv-doc examples/data)
-  bool texture_dir_explicit = false;   // missing explicit dir/file = error; default = warning
-  std::string trajectory_file;         // TUM trajectory driving the camera instead of the preset
-  bool noise = true;                   // sensor noise, blur, exposure changes (off: ideal sensor)
-  bool force = false;                  // overwrite a non-empty output directory
-  int threads = 0;                     // worker threads; 0 = hardware concurrency
-  int supersample = 2;                 // anti-aliasing factor (1..4)
-  std::string command_line;            // recorded in scene.yaml
+  bool texture_dir_explicit = false;  // missing explicit dir/file = error; default = warning
+  std::string trajectory_file;        // TUM trajectory driving the camera instead of the preset
+  bool noise = true;                  // sensor noise, blur, exposure changes (off: ideal sensor)
+  bool force = false;                 // overwrite a non-empty output directory
+  int threads = 0;                    // worker threads; 0 = hardware concurrency
+  int supersample = 2;                // anti-aliasing factor (1..4)
+  std::string command_line;           // recorded in scene.yaml
 
   void Validate() const;  // throws InputError
 };

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace dynorb::synth {
@@ -46,7 +45,8 @@ Texture MakeSprite(const cv::Mat& bgra, double depth_ratio) {
   for (int y = 0; y < bgr.rows; ++y)
     for (int x = 0; x < bgr.cols; ++x)
       if (!opaque.at<uchar>(y, x) && weight_sum.at<float>(y, x) > 1e-4f)
-        bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(colour_sum.at<cv::Vec3f>(y, x) / weight_sum.at<float>(y, x));
+        bgr.at<cv::Vec3b>(y, x) =
+            cv::Vec3b(colour_sum.at<cv::Vec3f>(y, x) / weight_sum.at<float>(y, x));
   cv::Mat smooth;
   cv::blur(bgr, smooth, cv::Size(3, 3));
   bgr.copyTo(smooth, opaque);

@@ -4,9 +4,8 @@
 // between rendering threads.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace dynorb::synth {
 
