@@ -110,6 +110,12 @@ class FastFilterSequence : public ::testing::Test {
         result.fn += truth && !removed;
       }
     }
+    if (std::getenv("FAST_DEBUG")) {
+      const FastTiming& t = filter.total_timing();
+      const double n = std::max(1, filter.frames());
+      std::printf("ms/frame: total %.2f flow %.2f ego %.2f F %.2f cues %.2f region %.2f\n", t.total_ms / n,
+                  t.flow_ms / n, t.ego_ms / n, t.fundamental_ms / n, t.cues_ms / n, t.region_ms / n);
+    }
     return result;
   }
 
