@@ -1,0 +1,301 @@
+#include "bench_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+
+#include "bench_plots.h"
+#include "dynorb/core/error.h"
+#include "dynorb/io/atomic_file.h"
+#include "dynorb/synth/camera_motion.h"
+#include "dynorb/synth/synthesizer.h"
+#include "progress_bar.h"
+#include "run_modes.h"
+#include "run_pipeline.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kDefaultPeopleDir = "../shared/data/people";
+
+std::string CacheName(const BenchSyntheticSpec& s, bool twin) {
+  return s.preset + "_s" + std::to_string(s.seed) + "_f" + std::to_string(s.frames) +
+         (twin ? "_twin" : "");
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return text;
+}
+
+// Generates one synthetic sequence into its cache folder unless it is there already. The
+// generator writes into a temporary sibling that is renamed when complete, so an interrupted
+// generation is redone, never reused half-written.
+void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
+  if (fs::exists(fs::path(seq.dataset) / "rgb.txt")) return;
+  const std::string temp = seq.dataset + ".partial";
+  std::error_code ec;
+  fs::remove_all(temp, ec);
+  fs::create_directories(fs::path(seq.dataset).parent_path(), ec);
+  synth::SynthOptions o;
+  o.preset = seq.synth.preset;
+  o.seed = seq.synth.seed;
+  o.frames = seq.synth.frames;
+  o.static_twin = seq.twin;
+  o.out_dir = temp;
+  o.force = true;
+  if (options.people_dir == "auto") {
+    o.people_dir = fs::is_directory(kDefaultPeopleDir) ? kDefaultPeopleDir : "";
+  } else if (options.people_dir != "procedural") {
+    o.people_dir = options.people_dir;
+  }
+  o.command_line = "dynorb bench (suite " + options.suite + "): preset " + o.preset + " seed " +
+                   std::to_string(o.seed) + " frames " + std::to_string(o.frames) +
+                   (o.static_twin ? " static twin" : "");
+  o.Validate();
+  if (!options.quiet) std::cerr << "bench: generating " << seq.dataset << "\n";
+  const synth::SynthReport report = synth::Synthesize(o);
+  for (const std::string& w : report.warnings) std::cerr << "bench: synth warning: " << w << "\n";
+  fs::rename(temp, seq.dataset, ec);
+  if (ec) throw InputError("cannot move " + temp + " to " + seq.dataset + ": " + ec.message());
+}
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
+nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& seeds) {
+  nlohmann::json j;
+  j["name"] = plan.suite.name;
+  j["file"] = plan.suite.file;
+  j["description"] = plan.suite.description;
+  j["seeds"] = seeds;
+  j["run_mode"] = plan.suite.run_mode;
+  j["sequences"] = nlohmann::json::array();
+  for (const BenchSequenceRun& s : plan.sequences) {
+    j["sequences"].push_back({{"name", s.name},
+                              {"dataset", s.dataset},
+                              {"tum_name", s.tum_name},
+                              {"twin_of", s.twin_of},
+                              {"synthetic", s.synthetic},
+                              {"preset", s.synthetic ? s.synth.preset : ""}});
+  }
+  j["modes"] = nlohmann::json::array();
+  for (const BenchMode& m : plan.suite.modes) {
+    j["modes"].push_back({{"label", m.label}, {"name", m.name}, {"config", m.config}});
+  }
+  return j;
+}
+
+}  // namespace
+
+BenchPlan PlanBench(const BenchOptions& options) {
+  BenchPlan plan;
+  plan.suite = LoadBenchSuite(options.suite);
+  BenchSuite& suite = plan.suite;
+  const std::vector<std::string> registered = RunModeNames();
+  std::vector<BenchMode> modes;
+  for (const BenchMode& m : suite.modes) {
+    if (std::find(registered.begin(), registered.end(), m.name) == registered.end()) {
+      if (m.optional) {
+        plan.warnings.push_back("mode '" + m.name + "' is not registered in this build (modes: " +
+                                Join(registered) + "): skipped");
+        continue;
+      }
+      throw InputErrorAt(
+          suite.file, m.line,
+          "unknown mode '" + m.name + "' (modes of this dynorb build: " + Join(registered) + ")");
+    }
+    if (!m.config.empty() && !fs::is_regular_file(m.config)) {
+      throw InputErrorAt(suite.file, m.line,
+                         "config file of mode '" + m.label + "' not found: " + m.config);
+    }
+    modes.push_back(m);
+  }
+  if (modes.empty())
+    throw InputError(suite.file + ": none of the suite's modes is registered in this build");
+  plan.suite.modes = modes;
+  const fs::path cache = fs::path(options.out) / "cache";
+  for (const BenchSequence& s : suite.sequences) {
+    BenchSequenceRun run;
+    run.name = s.name;
+    run.config = s.config;
+    run.frames = s.frames;
+    run.tum_name = s.tum_name;
+    run.synthetic = s.synthetic;
+    run.synth = s.synth;
+    if (!s.config.empty() && !fs::is_regular_file(s.config)) {
+      throw InputErrorAt(suite.file, s.line,
+                         "config file of sequence '" + s.name + "' not found: " + s.config);
+    }
+    if (s.synthetic) {
+      if (!synth::FindPreset(s.synth.preset)) {
+        throw InputErrorAt(suite.file, s.line,
+                           "unknown synthetic preset '" + s.synth.preset +
+                               "' (presets: " + synth::PresetNames() + ")");
+      }
+      run.dataset = (cache / CacheName(s.synth, false)).string();
+      plan.sequences.push_back(run);
+      if (s.synth.static_twin) {
+        BenchSequenceRun twin = run;
+        twin.name = s.name + "_twin";
+        twin.twin = true;
+        twin.twin_of = s.name;
+        twin.tum_name.clear();
+        twin.dataset = (cache / CacheName(s.synth, true)).string();
+        plan.sequences.push_back(twin);
+      }
+      continue;
+    }
+    fs::path folder = s.path;
+    if (folder.is_relative()) {
+      folder = options.dataset_root.empty() ? fs::path(suite.file).parent_path() / folder
+                                            : fs::path(options.dataset_root) / folder;
+    }
+    run.dataset = folder.lexically_normal().string();
+    const bool present = fs::exists(folder / "rgb.txt") || fs::exists(folder / "associations.txt");
+    if (!present) {
+      const std::string message =
+          "dataset of sequence '" + s.name + "' not found: " + run.dataset +
+          (options.dataset_root.empty() ? " (pass --dataset-root DIR)" : "");
+      if (!options.skip_missing)
+        throw InputErrorAt(suite.file, s.line, message + " (or --skip-missing)");
+      plan.warnings.push_back(message + ": skipped");
+      continue;
+    }
+    if (s.config.empty() && !fs::exists(folder / "camera.yaml")) {
+      throw InputErrorAt(suite.file, s.line,
+                         "sequence '" + s.name +
+                             "' has no camera.yaml: give 'config:' (e.g. config/tum_fr3.yaml)");
+    }
+    plan.sequences.push_back(run);
+  }
+  if (plan.sequences.empty()) throw InputError(suite.file + ": no sequence to run (all skipped)");
+  const std::vector<uint64_t> seeds = suite.RunSeeds(options.repeats);
+  for (const BenchSequenceRun& seq : plan.sequences) {
+    for (const BenchMode& mode : suite.modes) {
+      for (size_t k = 0; k < seeds.size(); ++k) {
+        BenchRun run;
+        run.sequence = &seq;
+        run.mode = &mode;
+        run.seed = seeds[k];
+        run.repeat = static_cast<int>(k);
+        run.out_dir = (fs::path(options.out) / "runs" / seq.name / mode.label /
+                       ("seed" + std::to_string(seeds[k])))
+                          .string();
+        plan.runs.push_back(run);
+      }
+    }
+  }
+  return plan;
+}
+
+nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
+  const fs::path out(options.out);
+  std::error_code ec;
+  fs::create_directories(out / "plots", ec);
+  if (!fs::is_directory(out / "plots"))
+    throw InputError("cannot create output folder " + options.out);
+  for (const std::string& w : plan.warnings) std::cerr << "bench: warning: " << w << "\n";
+  for (const BenchSequenceRun& seq : plan.sequences) {
+    if (seq.synthetic) EnsureSynthetic(seq, options);
+  }
+
+  const std::vector<uint64_t> seeds = plan.suite.RunSeeds(options.repeats);
+  nlohmann::json results;
+  results["format"] = "dynorb-bench-results/1";
+  results["generated_utc"] = UtcNow();
+  results["suite"] = SuiteJson(plan, seeds);
+  results["runs"] = nlohmann::json::array();
+  const std::string results_path = (out / "results.json").string();
+
+  int done = 0, skipped = 0, failed = 0;
+  ProgressBar progress("runs", static_cast<int>(plan.runs.size()));
+  const auto start = std::chrono::steady_clock::now();
+  for (const BenchRun& run : plan.runs) {
+    const BenchSequenceRun& seq = *run.sequence;
+    const std::string stats_path = (fs::path(run.out_dir) / "stats.json").string();
+    const std::string key = seq.name + "__" + run.mode->label;
+    const bool want_strip =
+        options.plots && run.repeat == 0 && !fs::exists(out / "plots" / (key + "_keypoints.png"));
+    nlohmann::json entry = {
+        {"sequence", seq.name},        {"mode", run.mode->label},
+        {"mode_name", run.mode->name}, {"seed", run.seed},
+        {"repeat", run.repeat},        {"dir", fs::relative(run.out_dir, out).string()}};
+    if (fs::exists(stats_path)) {
+      entry["status"] = "ok";
+      entry["resumed"] = true;
+      entry["stats"] = ReadJsonFile(stats_path);
+      ++skipped;
+    } else {
+      RunRequest request;
+      request.dataset = seq.dataset;
+      request.config = run.mode->config.empty() ? seq.config : run.mode->config;
+      request.out = run.out_dir;
+      request.mode = run.mode->name;
+      request.run_mode = plan.suite.run_mode;
+      request.seed = run.seed;
+      request.frames = seq.frames;
+      request.models = options.models;
+      request.quiet = true;
+      if (want_strip) request.overlays = (fs::path(run.out_dir) / "overlays").string();
+      try {
+        entry["stats"] = RunPipeline(request);
+        entry["status"] = "ok";
+      } catch (const std::exception& e) {
+        entry["status"] = "failed";
+        entry["error"] = e.what();
+        ++failed;
+        std::cerr << "\nbench: run " << key << " seed " << run.seed << " failed: " << e.what()
+                  << "\n";
+      }
+    }
+    if (options.plots && run.repeat == 0 && entry["status"] == "ok") {
+      const std::string stem = (out / "plots" / key).string();
+      if (!fs::exists(stem + ".png"))
+        WriteTrajectoryPlot(seq.dataset, run.out_dir, stem, seq.name + " / " + run.mode->label);
+      const fs::path overlays = fs::path(run.out_dir) / "overlays";
+      if (fs::is_directory(overlays)) {
+        WriteKeypointStrip(overlays.string(), (out / "plots" / (key + "_keypoints.png")).string());
+        fs::remove_all(overlays, ec);
+      }
+    }
+    results["runs"].push_back(entry);
+    WriteFileAtomically(results_path,
+                        results.dump(1) + "\n");  // partial results survive an interrupt
+    ++done;
+    if (!options.quiet) {
+      const double s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      char extra[160];
+      std::snprintf(extra, sizeof(extra), "%.0f s, %d resumed, %d failed; last: %s seed %llu", s,
+                    skipped, failed, key.c_str(), static_cast<unsigned long long>(run.seed));
+      progress.Update(done, extra);
+    }
+  }
+  results["summary"] = {{"runs", plan.runs.size()}, {"resumed", skipped}, {"failed", failed}};
+  WriteFileAtomically(results_path, results.dump(1) + "\n");
+  return results;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,308 @@
+#include "bench_tables.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include "dynorb/core/error.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// Value of one run, or nothing (metric absent, e.g. no ground truth).
+using Metric = std::function<std::optional<double>(const Json& stats)>;
+
+Metric Path(std::vector<std::string> keys, double scale = 1.0) {
+  return [keys, scale](const Json& stats) -> std::optional<double> {
+    const Json* node = &stats;
+    for (const std::string& k : keys) {
+      if (!node->is_object() || !node->contains(k)) return std::nullopt;
+      node = &(*node)[k];
+    }
+    if (!node->is_number()) return std::nullopt;
+    return node->get<double>() * scale;
+  };
+}
+
+std::string Fixed(double v, int digits) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.*f", digits, v);
+  return text;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// "median" or "median [min-max]".
+std::string Cell(const std::vector<double>& values, int digits, const std::string& suffix = "") {
+  if (values.empty()) return "-";
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  std::string text = Fixed(Median(values), digits) + suffix;
+  if (values.size() > 1) text += " [" + Fixed(*lo, digits) + "-" + Fixed(*hi, digits) + "]";
+  return text;
+}
+
+class Runs {
+ public:
+  explicit Runs(const Json& results) {
+    for (const Json& run : results["runs"]) {
+      if (run.value("status", "") != "ok" || !run.contains("stats")) continue;
+      by_key_[{run["sequence"].get<std::string>(), run["mode"].get<std::string>()}]
+             [run["seed"].get<uint64_t>()] = &run["stats"];
+    }
+  }
+  // seed -> value for (sequence, mode).
+  std::map<uint64_t, double> Values(const std::string& seq, const std::string& mode,
+                                    const Metric& metric) const {
+    std::map<uint64_t, double> out;
+    const auto it = by_key_.find({seq, mode});
+    if (it == by_key_.end()) return out;
+    for (const auto& [seed, stats] : it->second) {
+      if (const std::optional<double> v = metric(*stats)) out[seed] = *v;
+    }
+    return out;
+  }
+  std::vector<double> List(const std::string& seq, const std::string& mode,
+                           const Metric& metric) const {
+    std::vector<double> out;
+    for (const auto& [seed, v] : Values(seq, mode, metric)) out.push_back(v);
+    return out;
+  }
+  // Per-seed ratios a/b over the seeds both have.
+  std::vector<double> Ratios(const std::string& seq_a, const std::string& mode_a,
+                             const std::string& seq_b, const std::string& mode_b,
+                             const Metric& metric) const {
+    const auto a = Values(seq_a, mode_a, metric), b = Values(seq_b, mode_b, metric);
+    std::vector<double> out;
+    for (const auto& [seed, va] : a) {
+      const auto it = b.find(seed);
+      if (it != b.end() && it->second > 0) out.push_back(va / it->second);
+    }
+    return out;
+  }
+
+ private:
+  std::map<std::pair<std::string, std::string>, std::map<uint64_t, const Json*>> by_key_;
+};
+
+struct Names {
+  std::vector<std::string> sequences, modes;
+  std::map<std::string, std::string> twin_of, tum_name;  // sequence -> ...
+};
+
+Names ReadNames(const Json& results) {
+  Names n;
+  for (const Json& s : results["suite"]["sequences"]) {
+    const std::string name = s["name"].get<std::string>();
+    n.sequences.push_back(name);
+    if (!s.value("twin_of", "").empty()) n.twin_of[name] = s["twin_of"].get<std::string>();
+    if (!s.value("tum_name", "").empty()) n.tum_name[name] = s["tum_name"].get<std::string>();
+  }
+  for (const Json& m : results["suite"]["modes"]) n.modes.push_back(m["label"].get<std::string>());
+  return n;
+}
+
+BenchTable MetricTable(const Runs& runs, const Names& names, std::string id, std::string title,
+                       std::string note, const Metric& metric, int digits) {
+  BenchTable t{std::move(id), std::move(title), std::move(note), {"sequence"}, {}};
+  for (const std::string& m : names.modes) t.header.push_back(m);
+  for (const std::string& s : names.sequences) {
+    std::vector<std::string> row{s};
+    for (const std::string& m : names.modes) row.push_back(Cell(runs.List(s, m, metric), digits));
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+BenchTable PublishedTable(const Runs& runs, const Names& names, const Json& published) {
+  BenchTable t{
+      "published",
+      "Real TUM sequences: ATE RMSE [m] next to published numbers",
+      "Our rows: median over the repeats. Published rows: values as printed in the cited source "
+      "(bench/published_results.json); other machines, other runs, often the median of 5 runs.",
+      {"system"},
+      {}};
+  std::vector<std::pair<std::string, std::string>> columns;  // (tum name, our sequence)
+  for (const std::string& s : names.sequences) {
+    if (names.tum_name.count(s)) columns.push_back({names.tum_name.at(s), s});
+  }
+  for (const auto& c : columns) t.header.push_back(c.first);
+  t.header.push_back("source");
+  const Metric ate = Path({"ate", "rmse_m"});
+  for (const std::string& m : names.modes) {
+    std::vector<std::string> row{"dynorb " + m};
+    for (const auto& c : columns) {
+      const std::vector<double> v = runs.List(c.second, m, ate);
+      row.push_back(v.empty() ? "-" : Fixed(Median(v), 3));
+    }
+    row.push_back("this run");
+    t.rows.push_back(row);
+  }
+  if (published.is_object() && published.contains("systems")) {
+    for (const Json& sys : published["systems"]) {
+      std::vector<std::string> row{sys.value("system", "?")};
+      for (const auto& c : columns) {
+        const Json& values = sys["ate_rmse_m"];
+        row.push_back(values.contains(c.first) ? Fixed(values[c.first].get<double>(), 4) : "-");
+      }
+      std::string source = sys.value("source", "");
+      if (!sys.value("note", "").empty()) source += "; " + sys["note"].get<std::string>();
+      if (!sys.value("verified", true)) source += " (not verified)";
+      row.push_back(source);
+      t.rows.push_back(row);
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+BenchReportContent BuildBenchReport(const Json& results, const Json& published,
+                                    const std::string& out_dir) {
+  if (!results.is_object() || results.value("format", "") != "dynorb-bench-results/1" ||
+      !results.contains("runs") || !results.contains("suite")) {
+    throw InputError("not a dynorb bench results.json (format dynorb-bench-results/1 expected)");
+  }
+  const Runs runs(results);
+  const Names names = ReadNames(results);
+  BenchReportContent r;
+  const Json& suite = results["suite"];
+  r.title = "dynorb bench: " + suite.value("name", std::string("suite"));
+  int ok = 0, failed = 0;
+  for (const Json& run : results["runs"]) (run.value("status", "") == "ok" ? ok : failed)++;
+  r.summary.push_back("suite: " + suite.value("file", std::string()) +
+                      (suite.value("description", "").empty()
+                           ? ""
+                           : " - " + suite["description"].get<std::string>()));
+  r.summary.push_back("generated: " + results.value("generated_utc", std::string("?")) +
+                      ", run mode " + suite.value("run_mode", std::string("?")) + ", seeds " +
+                      suite["seeds"].dump());
+  r.summary.push_back("runs: " + std::to_string(ok) + " ok, " + std::to_string(failed) + " failed" +
+                      (failed ? " (see results.json)" : ""));
+  r.summary.push_back(
+      "cells: median over the repeats, [min-max] when there are several; '-' = not available");
+
+  const Metric ate = Path({"ate", "rmse_m"});
+  const Metric ms = Path({"timing_ms", "frame_total", "mean"});
+  r.tables.push_back(
+      MetricTable(runs, names, "ate", "ATE RMSE [m]",
+                  "Absolute trajectory error after SE(3) alignment to the ground truth.", ate, 4));
+  // Robustness: dynamic vs static twin, paired by seed.
+  BenchTable robust{
+      "robustness",
+      "Robustness ratio ATE(dynamic) / ATE(static twin)",
+      "Per seed, the ATE on the sequence with moving people divided by the ATE on its static twin "
+      "(same camera path and noise, nothing moving); 1 = people do not hurt.",
+      {"sequence"},
+      {}};
+  for (const std::string& m : names.modes) robust.header.push_back(m);
+  for (const auto& [twin, dynamic] : names.twin_of) {
+    std::vector<std::string> row{dynamic};
+    for (const std::string& m : names.modes)
+      row.push_back(Cell(runs.Ratios(dynamic, m, twin, m, ate), 2));
+    robust.rows.push_back(row);
+  }
+  if (!robust.rows.empty()) r.tables.push_back(robust);
+  r.tables.push_back(MetricTable(runs, names, "rpe_t", "RPE translation [m/s]",
+                                 "Relative pose error over 1 s.",
+                                 Path({"rpe", "trans_rmse_m_per_s"}), 4));
+  r.tables.push_back(MetricTable(runs, names, "rpe_r", "RPE rotation [deg/s]",
+                                 "Relative pose error over 1 s.",
+                                 Path({"rpe", "rot_rmse_deg_per_s"}), 3));
+  r.tables.push_back(
+      MetricTable(runs, names, "tracked", "Tracked frames [%]",
+                  "Frames with a valid pose (coverage of the ground truth in results.json).",
+                  Path({"tracked_fraction"}, 100.0), 1));
+  r.tables.push_back(MetricTable(runs, names, "lost", "Lost episodes", "Times tracking was lost.",
+                                 Path({"lost_episodes"}), 0));
+  r.tables.push_back(
+      MetricTable(runs, names, "ms", "Time per frame [ms] (mean)",
+                  "Tracking thread time per frame (feature extraction, filter, tracking, inline "
+                  "mapping in sequential mode).",
+                  ms, 1));
+  BenchTable speed{"speed",
+                   "Speed ratio to plain (ms/frame of the mode / ms/frame of plain)",
+                   "Per seed on the same sequence; > 1 = slower than plain.",
+                   {"sequence"},
+                   {}};
+  const bool has_plain =
+      std::find(names.modes.begin(), names.modes.end(), "plain") != names.modes.end();
+  for (const std::string& m : names.modes) speed.header.push_back(m);
+  for (const std::string& s : names.sequences) {
+    std::vector<std::string> row{s};
+    for (const std::string& m : names.modes)
+      row.push_back(Cell(runs.Ratios(s, m, s, "plain", ms), 2, "x"));
+    speed.rows.push_back(row);
+  }
+  if (has_plain) r.tables.push_back(speed);
+
+  BenchTable detail{
+      "timing",
+      "Time per frame and per stage [ms] (median over the repeats of each run's mean)",
+      "frame: mean / median / p95 of the per-frame time; stages: mean per frame.",
+      {"sequence", "mode", "frame mean", "frame median", "frame p95", "detect", "filter",
+       "describe", "track", "local map", "mapping"},
+      {}};
+  BenchTable keypoints{
+      "keypoints",
+      "Dynamic keypoints: precision / recall [%]",
+      "positive = keypoint removed as dynamic; truth = keypoint on a moving-object mask pixel "
+      "(synthetic sequences); totals over all frames with masks.",
+      {"sequence", "mode", "precision", "recall", "keypoints on moving objects"},
+      {}};
+  for (const std::string& s : names.sequences) {
+    for (const std::string& m : names.modes) {
+      std::vector<std::string> row{s, m};
+      for (const char* stat : {"mean", "median", "p95"})
+        row.push_back(Cell(runs.List(s, m, Path({"timing_ms", "frame_total", stat})), 1));
+      for (const char* stage :
+           {"detect", "filter", "describe", "track", "local_map", "mapping_inline"}) {
+        row.push_back(Cell(runs.List(s, m, Path({"timing_ms", stage, "mean"})), 2));
+      }
+      detail.rows.push_back(row);
+      const std::vector<double> precision =
+          runs.List(s, m, Path({"dynamic_keypoints", "precision"}, 100.0));
+      if (!precision.empty()) {
+        keypoints.rows.push_back(
+            {s, m, Cell(precision, 1),
+             Cell(runs.List(s, m, Path({"dynamic_keypoints", "recall"}, 100.0)), 1),
+             Cell(runs.List(
+                      s, m,
+                      Path({"dynamic_keypoints", "keypoints_on_moving_objects_fraction"}, 100.0)),
+                  1)});
+      }
+    }
+  }
+  r.tables.push_back(detail);
+  if (!keypoints.rows.empty()) r.tables.push_back(keypoints);
+  if (!names.tum_name.empty()) r.tables.push_back(PublishedTable(runs, names, published));
+
+  for (const std::string& s : names.sequences) {
+    for (const std::string& m : names.modes) {
+      const std::string key = s + "__" + m;
+      if (fs::exists(fs::path(out_dir) / "plots" / (key + ".png"))) {
+        r.figures.push_back(
+            {"plots/" + key + ".png",
+             s + " / " + m +
+                 " (first seed): top and side view against ground truth, ATE error over time"});
+      }
+      if (fs::exists(fs::path(out_dir) / "plots" / (key + "_keypoints.png"))) {
+        r.figures.push_back(
+            {"plots/" + key + "_keypoints.png",
+             s + " / " + m + ": keypoints kept (green) and removed as dynamic (red)"});
+      }
+    }
+  }
+  return r;
+}
+
+}  // namespace dynorb

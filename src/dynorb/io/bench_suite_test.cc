@@ -1,0 +1,115 @@
+#include "dynorb/io/bench_suite.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "dynorb/core/error.h"
+
+namespace dynorb {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    ParseBenchSuite(yaml, "suite.yaml", "/suites");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(BenchSuite, ParsesSequencesModesAndSeeds) {
+  const BenchSuite suite = ParseBenchSuite(R"(name: quick
+repeats: 2
+sequences:
+  - name: syn
+    synthetic: {preset: walking_xyz, seed: 4, frames: 60}
+  - name: fr3_w_xyz
+    path: rgbd_dataset_freiburg3_walking_xyz
+    config: ../config/tum_fr3.yaml
+    frames: "0:100"
+    tum_name: fr3/walking_xyz
+modes:
+  - plain
+  - {name: fast, config: strict.yaml, optional: true}
+)",
+                                           "suite.yaml", "/repo/suites");
+  EXPECT_EQ(suite.name, "quick");
+  ASSERT_EQ(suite.sequences.size(), 2u);
+  EXPECT_TRUE(suite.sequences[0].synthetic);
+  EXPECT_EQ(suite.sequences[0].synth.preset, "walking_xyz");
+  EXPECT_EQ(suite.sequences[0].synth.seed, 4u);
+  EXPECT_EQ(suite.sequences[0].synth.frames, 60);
+  EXPECT_TRUE(suite.sequences[0].synth.static_twin);
+  EXPECT_EQ(suite.sequences[0].line, 4);
+  EXPECT_FALSE(suite.sequences[1].synthetic);
+  EXPECT_EQ(suite.sequences[1].path, "rgbd_dataset_freiburg3_walking_xyz");
+  EXPECT_EQ(suite.sequences[1].config, "/repo/config/tum_fr3.yaml");
+  EXPECT_EQ(suite.sequences[1].frames, "0:100");
+  EXPECT_EQ(suite.sequences[1].tum_name, "fr3/walking_xyz");
+  ASSERT_EQ(suite.modes.size(), 2u);
+  EXPECT_EQ(suite.modes[0].label, "plain");
+  EXPECT_EQ(suite.modes[1].label, "fast-strict");
+  EXPECT_EQ(suite.modes[1].config, "/repo/suites/strict.yaml");
+  EXPECT_TRUE(suite.modes[1].optional);
+  EXPECT_EQ(suite.modes[1].line, 13);
+  EXPECT_EQ(suite.RunSeeds(0), (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(suite.RunSeeds(3), (std::vector<uint64_t>{1, 2, 3}));
+}
+
+TEST(BenchSuite, ExplicitSeeds) {
+  const BenchSuite suite = ParseBenchSuite(
+      "seeds: [7, 11]\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".");
+  EXPECT_EQ(suite.name, "s");
+  EXPECT_EQ(suite.RunSeeds(0), (std::vector<uint64_t>{7, 11}));
+  EXPECT_EQ(suite.RunSeeds(1), (std::vector<uint64_t>{1}));
+}
+
+TEST(BenchSuite, BadSuitesNameFileAndLine) {
+  const std::string modes = "modes: [plain]\n";
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: x, pth: y}\n" + modes),
+              HasSubstr("suite.yaml:2: unknown key 'pth' in a sequence"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a}\n" + modes),
+              HasSubstr("suite.yaml:2: sequence 'a' needs 'path'"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: x, synthetic: {preset: p}}\n" + modes),
+              HasSubstr("has both 'path' and 'synthetic'"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: x}\n  - {name: a, path: y}\n" + modes),
+              HasSubstr("suite.yaml:3: duplicate sequence name 'a'"));
+  EXPECT_THAT(
+      ErrorOf("sequences:\n  - {name: a, path: x}\n  - {name: a_twin, synthetic: {preset: p}}\n" +
+              modes),
+      HasSubstr("duplicate sequence name"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: 'a b', path: x}\n" + modes),
+              HasSubstr("may only contain"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: -3}}\n" + modes),
+              HasSubstr("suite.yaml:2: 'frames' must be >= 1"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: many}}\n" + modes),
+              HasSubstr("'frames' expects an integer, got 'many'"));
+  EXPECT_THAT(ErrorOf("repeats: 0\nsequences: [{name: a, path: x}]\n" + modes),
+              HasSubstr("suite.yaml:1: 'repeats'"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\n"), HasSubstr("non-empty list 'modes'"));
+  EXPECT_THAT(ErrorOf("modes: [plain]\n"), HasSubstr("non-empty list 'sequences'"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain, plain]\n"),
+              HasSubstr("duplicate mode 'plain'"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nrun_mode: fast\n"),
+              HasSubstr("suite.yaml:3: 'run_mode' must be sequential or parallel"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nmodez: [fast]\n"),
+              HasSubstr("suite.yaml:3: unknown key 'modez' in the suite"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}\n"), HasSubstr("invalid YAML"));
+  EXPECT_THAT(ErrorOf(""), HasSubstr("empty suite file"));
+  EXPECT_THROW(LoadBenchSuite("/nonexistent/suite.yaml"), InputError);
+}
+
+TEST(BenchSuite, ShippedSuitesParse) {
+  for (const char* name : {"quick", "synthetic", "tum"}) {
+    const BenchSuite suite =
+        LoadBenchSuite(std::string(DYNORB_SOURCE_DIR) + "/bench/suites/" + name + ".yaml");
+    EXPECT_EQ(suite.name, name);
+    EXPECT_FALSE(suite.sequences.empty());
+    EXPECT_EQ(suite.modes.front().name, "plain");
+  }
+}
+
+}  // namespace
+}  // namespace dynorb

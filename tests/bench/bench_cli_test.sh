@@ -1,0 +1,155 @@
+#!/usr/bin/env bash
+# End-to-end check of `dynorb bench` (CTest: dynorb_bench_cli):
+#  1. bad suites (unknown mode, missing dataset, unknown preset/key) fail with exit 2, one
+#     "dynorb: error:" line naming suite:line, before any run starts (nothing written);
+#  2. report.md/html from the stored tests/bench/data/results.json (numbers checked);
+#  3. a tiny synthetic suite: runs, plots, results.json; resume after more repeats, after a lost
+#     stats.json and after a real interruption (SIGTERM mid-run).
+# Usage: bench_cli_test.sh path/to/dynorb SOURCE_DIR [ARTIFACT_DIR]  (the report of step 3 is
+# copied to ARTIFACT_DIR for the headless-browser test).
+set -uo pipefail
+DYNORB=$(realpath "${1:?usage: bench_cli_test.sh path/to/dynorb SOURCE_DIR [ARTIFACT_DIR]}")
+SRC=$(realpath "${2:?source dir}")
+ARTIFACTS=${3:-}
+DIR=$(mktemp -d)
+trap 'rm -rf "$DIR"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# --- 1. bad suites -------------------------------------------------------------------------
+check_error() {  # name expected-substring suite-text [extra args]
+  local name=$1 expected=$2 text=$3
+  shift 3
+  printf '%s' "$text" >"$DIR/$name.yaml"
+  local err code
+  err=$("$DYNORB" bench --suite "$DIR/$name.yaml" --out "$DIR/out_$name" --quiet "$@" 2>&1 >/dev/null)
+  code=$?
+  [[ $code == 2 ]] || fail "$name: exit code $code ($err)"
+  grep -qF -- "$expected" <<<"$err" || fail "$name: message '$err' lacks '$expected'"
+  [[ $(wc -l <<<"$err") == 1 ]] || fail "$name: more than one line: $err"
+  [[ ! -e "$DIR/out_$name" ]] || fail "$name: wrote $DIR/out_$name before failing"
+}
+SYN='sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, frames: 10}}
+'
+check_error unknown_mode "unknown_mode.yaml:5: unknown mode 'fused' (modes of this dynorb build: plain" \
+  "${SYN}modes:
+  - plain
+  - fused
+"
+check_error missing_dataset "missing_dataset.yaml:2: dataset of sequence 'fr3' not found" \
+  'sequences:
+  - {name: fr3, path: no_such_folder}
+modes: [plain]
+'
+check_error missing_dataset_root "--skip-missing" \
+  'sequences:
+  - {name: fr3, path: no_such_folder}
+modes: [plain]
+' --dataset-root "$DIR"
+check_error all_skipped "no sequence to run" \
+  'sequences:
+  - {name: fr3, path: no_such_folder}
+modes: [plain]
+' --skip-missing
+check_error unknown_preset "unknown_preset.yaml:2: unknown synthetic preset 'running'" \
+  'sequences:
+  - {name: syn, synthetic: {preset: running}}
+modes: [plain]
+'
+check_error unknown_key "unknown_key.yaml:4: unknown key 'repeat' in the suite" \
+  "${SYN}modes: [plain]
+repeat: 3
+"
+check_error missing_config "missing_config.yaml:4: config file of mode 'plain-nope' not found" \
+  "${SYN}modes:
+  - {name: plain, config: nope.yaml}
+"
+err=$("$DYNORB" bench --suite "$DIR/no_such_suite.yaml" --out "$DIR/o" 2>&1 >/dev/null)
+[[ $? == 2 ]] && grep -qF "suite file not found" <<<"$err" || fail "missing suite file: $err"
+
+# --- 2. report from a stored results.json ----------------------------------------------------
+mkdir -p "$DIR/stored"
+cp "$SRC/tests/bench/data/results.json" "$DIR/stored/"
+"$DYNORB" bench --report "$DIR/stored" --published "$SRC/bench/published_results.json" >/dev/null || fail "--report"
+MD="$DIR/stored/report.md"
+for needle in "| syn_walking_xyz | 0.0500 [0.0400-0.0600] | 0.0130 [0.0120-0.0140] |" \
+  "## Robustness ratio ATE(dynamic) / ATE(static twin)" "| syn_walking_xyz | 3.50 [3.00-4.00] | 1.10 [1.00-1.20] |" \
+  "| syn_walking_xyz | 1.00x [1.00-1.00] | 1.50x [1.50-1.50] |" "| syn_walking_xyz | fast | 85.0 [80.0-90.0] | 65.0 [60.0-70.0] | 20.0 [20.0-20.0] |" \
+  "| dynorb plain | 0.300 | this run |" "| DynaSLAM (RGB-D) | 0.0150 |" "| DS-SLAM | 0.0247 |" "(not verified)" \
+  "runs: 9 ok, 1 failed" "| fr3_walking_xyz | fast |"; do
+  grep -qF -- "$needle" "$MD" || fail "report.md lacks '$needle'"
+done
+HTML="$DIR/stored/report.html"
+[[ $(grep -c "<table" "$HTML") -ge 8 ]] || fail "report.html: fewer than 8 tables"
+grep -qF "report test fixture &lt;&amp;&gt;" "$HTML" || fail "report.html: text not escaped"
+echo '{"format": "something else"}' >"$DIR/stored/results.json"
+err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
+[[ $? == 2 ]] && grep -qF "not a dynorb bench results.json" <<<"$err" || fail "bad results.json: $err"
+
+# --- 3. a real (tiny) suite, resume -------------------------------------------------------------
+cat >"$DIR/tiny.yaml" <<'EOF'
+name: tiny
+repeats: 1
+sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true}}
+modes:
+  - plain
+  - {name: fused, optional: true}
+EOF
+OUT="$DIR/bench"
+run_bench() { "$DYNORB" bench --suite "$DIR/tiny.yaml" --out "$OUT" --people procedural --quiet "$@"; }
+run_bench >"$DIR/run1.txt" 2>"$DIR/run1.err" || fail "tiny run 1: $(cat "$DIR/run1.err")"
+grep -qF "mode 'fused' is not registered" "$DIR/run1.err" || fail "no warning for the optional mode"
+grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run1.txt" || fail "run 1 summary: $(cat "$DIR/run1.txt")"
+for f in results.json report.md report.html plots/syn__plain.png plots/syn__plain.svg plots/syn_twin__plain.png \
+  plots/syn__plain_keypoints.png runs/syn/plain/seed1/stats.json runs/syn_twin/plain/seed1/trajectory.txt \
+  cache/walking_xyz_s3_f14/rgb.txt cache/walking_xyz_s3_f14_twin/rgb.txt; do
+  [[ -s "$OUT/$f" ]] || fail "run 1 did not write $f"
+done
+[[ ! -e "$OUT/runs/syn/plain/seed1/overlays" ]] || fail "overlay frames left behind"
+/usr/bin/python3 - "$OUT/results.json" <<'EOF' || fail "results.json content"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert len(r["runs"]) == 2, r["runs"]
+for run in r["runs"]:
+    s = run["stats"]
+    assert run["status"] == "ok" and s["frames"] == 14, run
+    assert s["ate"]["rmse_m"] >= 0 and "frame_total" in s["timing_ms"]
+assert "dynamic_keypoints" in r["runs"][0]["stats"]
+EOF
+grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
+stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
+sleep 1
+run_bench --repeats 2 >"$DIR/run2.txt" 2>&1 || fail "run 2: $(cat "$DIR/run2.txt")"
+grep -qF "runs: 4 (2 resumed, 0 failed)" "$DIR/run2.txt" || fail "run 2 summary: $(cat "$DIR/run2.txt")"
+[[ $(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json") == "$stamp" ]] || fail "seed 1 was run again"
+# A run whose stats.json is missing (interrupted after its trajectory was written) is redone.
+rm "$OUT/runs/syn_twin/plain/seed2/stats.json"
+run_bench --repeats 2 >"$DIR/run3.txt" 2>&1 || fail "run 3"
+grep -qF "runs: 4 (3 resumed, 0 failed)" "$DIR/run3.txt" || fail "run 3 summary: $(cat "$DIR/run3.txt")"
+# A real interruption: SIGTERM while the seed-3 run of the first sequence is under way.
+run_bench --repeats 3 >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do
+  [[ -d "$OUT/runs/syn/plain/seed3" ]] && break
+  sleep 0.05
+done
+kill -TERM "$pid" 2>/dev/null
+wait "$pid" 2>/dev/null
+ls -a "$OUT" "$OUT/runs/syn/plain/seed3" 2>/dev/null | grep -q '\.tmp-' && fail "interrupted run left a temporary file"
+/usr/bin/python3 -c "import json,sys; json.load(open(sys.argv[1]))" "$OUT/results.json" || fail "results.json broken by the interruption"
+run_bench --repeats 3 >"$DIR/run4.txt" 2>&1 || fail "run 4: $(cat "$DIR/run4.txt")"
+grep -qE "runs: 6 \((4|5|6) resumed, 0 failed\)" "$DIR/run4.txt" || fail "run 4 summary: $(cat "$DIR/run4.txt")"
+for s in 1 2 3; do
+  [[ -s "$OUT/runs/syn/plain/seed$s/stats.json" && -s "$OUT/runs/syn_twin/plain/seed$s/stats.json" ]] || fail "seed $s missing"
+done
+if [[ -n "$ARTIFACTS" ]]; then
+  rm -rf "$ARTIFACTS" && mkdir -p "$ARTIFACTS" && cp -r "$OUT/report.html" "$OUT/report.md" "$OUT/results.json" "$OUT/plots" "$ARTIFACTS/"
+fi
+
+if ((failures)); then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "bench CLI: all checks passed"
