@@ -32,7 +32,7 @@ bool WriteTrajectoryPlot(const std::string& dataset, const std::string& run_dir,
     const EvalResult result = EvaluateTrajectories(gt, est, EvalOptions());
     PlotCanvas canvas = LayoutEvalFigure(gt, est, result);
     PlotText label;
-    label.anchor_px = Eigen::Vector2d(canvas.width_px - 20.0, 22.0);
+    label.anchor_px = Eigen::Vector2d(canvas.width_px - 20.0, canvas.height_px - 16.0);  // bottom right
     label.text = title;
     label.align = PlotTextAlign::kRight;
     label.color = PlotColor{90, 90, 90};

@@ -30,6 +30,16 @@ Metric Path(std::vector<std::string> keys, double scale = 1.0) {
   };
 }
 
+// RPE of a run, or nothing when it had no pair (a sequence shorter than the RPE delta).
+Metric Rpe(const std::string& key) {
+  const Metric value = Path({"rpe", key}), pairs = Path({"rpe", "pairs"});
+  return [value, pairs](const Json& stats) -> std::optional<double> {
+    const std::optional<double> n = pairs(stats);
+    if (!n || *n <= 0) return std::nullopt;
+    return value(stats);
+  };
+}
+
 std::string Fixed(double v, int digits) {
   char text[64];
   std::snprintf(text, sizeof(text), "%.*f", digits, v);
@@ -213,11 +223,9 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
   }
   if (!robust.rows.empty()) r.tables.push_back(robust);
   r.tables.push_back(MetricTable(runs, names, "rpe_t", "RPE translation [m/s]",
-                                 "Relative pose error over 1 s.",
-                                 Path({"rpe", "trans_rmse_m_per_s"}), 4));
+                                 "Relative pose error over 1 s.", Rpe("trans_rmse_m_per_s"), 4));
   r.tables.push_back(MetricTable(runs, names, "rpe_r", "RPE rotation [deg/s]",
-                                 "Relative pose error over 1 s.",
-                                 Path({"rpe", "rot_rmse_deg_per_s"}), 3));
+                                 "Relative pose error over 1 s.", Rpe("rot_rmse_deg_per_s"), 3));
   r.tables.push_back(
       MetricTable(runs, names, "tracked", "Tracked frames [%]",
                   "Frames with a valid pose (coverage of the ground truth in results.json).",
