@@ -52,8 +52,35 @@ std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
   return {first, last};
 }
 
-SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cli) {
+// The `tracking:` and `mapping:` YAML sections (optional; defaults are ORB-SLAM2's RGB-D values).
+void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, ConfigSchema* schema) {
+  schema->Section("tracking", "Tracker (docs/slam_core.md)")
+      .Add("motion_radius_px", &t->motion_radius_px, "search radius of motion-model tracking (level 0)")
+      .Add("local_map_radius_factor", &t->local_map_radius_factor, "radius factor of local-map search")
+      .Add("min_local_map_inliers", &t->min_local_map_inliers, "inliers needed to accept a pose")
+      .Add("max_local_keyframes", &t->max_local_keyframes, "local map size (keyframes)")
+      .Add("min_frames_between_keyframes", &t->min_frames_between_keyframes,
+           "frames before an idle mapper may take a new keyframe")
+      .Add("max_frames_between_keyframes", &t->max_frames_between_keyframes, "frames after which one is due")
+      .Add("reference_ratio", &t->reference_ratio, "new keyframe when tracking < ratio x reference")
+      .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")
+      .OnLoaded([t] { t->Validate(); });
+  schema->Section("mapping", "Local mapper (docs/slam_core.md)")
+      .Add("local_bundle_adjustment", &m->local_bundle_adjustment, "run local BA")
+      .Add("local_ba_keyframes", &m->local_ba_keyframes, "free keyframes in local BA")
+      .Add("local_ba_fixed_keyframes", &m->local_ba_fixed_keyframes, "fixed keyframes in local BA")
+      .Add("ba_first_iterations", &m->bundle_adjustment.first_iterations, "robust LM iterations")
+      .Add("ba_second_iterations", &m->bundle_adjustment.second_iterations, "LM iterations without outliers")
+      .Add("keyframe_culling", &m->keyframe_culling, "cull redundant keyframes")
+      .Add("triangulation_neighbours", &m->triangulation_neighbours, "covisibles searched for new points")
+      .OnLoaded([m] { m->Validate(); });
+}
+
+SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cli, const TrackerOptions& tracker,
+                                const LocalMapperOptions& mapper) {
   SystemOptions options;
+  options.tracker = tracker;
+  options.mapper = mapper;
   options.sensor.camera = config.camera.camera;
   options.sensor.bf = config.camera.bf;
   options.sensor.th_depth_m = config.camera.close_depth_threshold_m();
@@ -62,7 +89,6 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
   options.orb.n_levels = config.orb.n_levels;
   options.orb.ini_th_fast = config.orb.ini_th_fast;
   options.orb.min_th_fast = config.orb.min_th_fast;
-  options.tracker.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
   options.tracker.seed = cli.seed;
   options.run_mode = cli.run_mode == "parallel" ? RunMode::kParallel : RunMode::kSequential;
   return options;
@@ -83,6 +109,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   SystemConfig config;
   ConfigSchema schema;
   BindSystemConfig(&config, &schema);
+  TrackerOptions tracker_options;
+  LocalMapperOptions mapper_options;
+  BindSlamSections(&tracker_options, &mapper_options, &schema);
   std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
   if (mode) mode->BindConfig(&schema);
   schema.Load(config_path);
@@ -96,7 +125,10 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     fs::create_directories(cli.overlays, ec);
     if (!fs::is_directory(cli.overlays)) throw InputError("cannot create overlay folder " + cli.overlays);
   }
-  const SystemOptions options = MakeSystemOptions(config, cli);
+  if (!schema.IsSet("tracking.max_frames_between_keyframes")) {  // ORB-SLAM2: one second of frames.
+    tracker_options.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
+  }
+  const SystemOptions options = MakeSystemOptions(config, cli, tracker_options, mapper_options);
   std::unique_ptr<KeypointFilter> filter;
   if (mode) {
     RunModeContext context;

@@ -1,5 +1,6 @@
 #include "dynorb/mapping/local_bundle_adjustment.h"
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -16,7 +17,7 @@ struct Snapshot {
   std::vector<BaObservation> observations;
 };
 
-Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe) {
+Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe, const LocalMapperOptions& options) {
   Snapshot s;
   std::map<KeyframeId, size_t> kf_index;
   std::map<LandmarkId, size_t> lm_index;
@@ -29,7 +30,9 @@ Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe) {
     s.keyframes.push_back(kf);
   };
   add_keyframe(keyframe, false);
-  for (KeyframeId id : map.keyframe(keyframe).ordered_covisibles) add_keyframe(id, false);
+  for (KeyframeId id : map.BestCovisibles(keyframe, std::max(0, options.local_ba_keyframes - 1))) {
+    add_keyframe(id, false);
+  }
   const size_t num_local = s.keyframes.size();
   for (size_t k = 0; k < num_local; ++k) {
     for (LandmarkId lm : map.keyframe(s.keyframe_ids[k]).landmarks) {
@@ -39,11 +42,25 @@ Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe) {
       s.points.push_back(map.landmark(lm).point_in_world);
     }
   }
+  // Fixed observers outside the window: the ones sharing most landmarks with it.
+  std::map<KeyframeId, int> outside;
+  for (LandmarkId lm : s.landmark_ids) {
+    for (const auto& [kf, index] : map.landmark(lm).observations) {
+      if (!kf_index.count(kf)) ++outside[kf];
+    }
+  }
+  std::vector<std::pair<int, KeyframeId>> ranked;
+  for (const auto& [kf, count] : outside) ranked.push_back({count, kf});
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (size_t i = 0; i < ranked.size() && static_cast<int>(i) < options.local_ba_fixed_keyframes; ++i) {
+    add_keyframe(ranked[i].second, true);
+  }
   for (size_t l = 0; l < s.landmark_ids.size(); ++l) {
     for (const auto& [kf, index] : map.landmark(s.landmark_ids[l]).observations) {
-      if (!kf_index.count(kf)) add_keyframe(kf, true);
+      auto it = kf_index.find(kf);
+      if (it == kf_index.end()) continue;  // An observer beyond the fixed set: left out.
       BaObservation obs;
-      obs.keyframe_index = kf_index.at(kf);
+      obs.keyframe_index = it->second;
       obs.landmark_index = l;
       obs.keypoint = map.keyframe(kf).features->Observation(index);
       s.observations.push_back(obs);
@@ -58,7 +75,7 @@ LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdS
                                       const LocalMapperOptions& options) {
   LocalBaStats stats;
   const Snapshot s = map->Read([&](const MapData& data) {
-    return data.HasKeyframe(keyframe) ? TakeSnapshot(data, keyframe) : Snapshot{};
+    return data.HasKeyframe(keyframe) ? TakeSnapshot(data, keyframe, options) : Snapshot{};
   });
   if (s.observations.empty()) return stats;
   for (const BaKeyframe& kf : s.keyframes) (kf.fixed ? stats.fixed_keyframes : stats.free_keyframes)++;

@@ -1,6 +1,8 @@
-// Local bundle adjustment around a keyframe (ORB-SLAM2 Optimizer::LocalBundleAdjustment):
-// free = the keyframe and its covisible keyframes, landmarks = all they observe, fixed = the other
-// keyframes observing those landmarks. Runs as snapshot (read lock) -> solve (no lock) -> commit
+// Local bundle adjustment around a keyframe (ORB-SLAM2 Optimizer::LocalBundleAdjustment, with a
+// bounded window): free = the keyframe and its best covisibles (local_ba_keyframes in total),
+// landmarks = all they observe, fixed = the local_ba_fixed_keyframes other keyframes sharing most
+// of those landmarks (ORB-SLAM2 takes every covisible and every observer, which in a room-sized
+// map is the whole map at every keyframe). Runs as snapshot (read lock) -> solve (no lock) -> commit
 // (write lock; entities erased in between are skipped; outlier observations are removed).
 #pragma once
 

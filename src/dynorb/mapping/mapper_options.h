@@ -16,6 +16,8 @@ struct LocalMapperOptions {
   double redundant_ratio = 0.9;          // A keyframe whose close landmarks are this fraction
   int redundant_observers = 3;           // seen by >= this many other keyframes is culled.
   bool local_bundle_adjustment = true;
+  int local_ba_keyframes = 10;           // Free keyframes: the new one + its best covisibles.
+  int local_ba_fixed_keyframes = 10;     // Fixed observers kept (most observations first).
   bool keyframe_culling = true;
   BundleAdjusterOptions bundle_adjustment;
 

@@ -22,9 +22,9 @@ namespace {
 
 double Solve(ceres::Problem* problem, int iterations, double* initial_cost) {
   ceres::Solver::Options options;
-  options.linear_solver_type = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)
-                                   ? ceres::SPARSE_SCHUR
-                                   : ceres::DENSE_SCHUR;
+  // Points are eliminated (Schur); the reduced camera system of a local window (<= a few dozen
+  // poses) is small, so a dense factorisation beats a sparse one.
+  options.linear_solver_type = ceres::DENSE_SCHUR;
   options.max_num_iterations = iterations;
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;

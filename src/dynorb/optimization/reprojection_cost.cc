@@ -46,26 +46,33 @@ class ReprojectionCost : public ceres::CostFunction {
     if (n == 3) residuals[2] = sqrt_info_ * (obs_.u_right - (u - bf_ * inv_z));
     if (jacobians == nullptr) return true;
 
-    Eigen::Matrix<double, 3, 3> d_proj;
+    // Fixed-size throughout: this runs for every residual at every iteration (no heap use).
+    Eigen::Matrix3d d_res;  // d residual / d point_in_cam; row 2 only used for RGB-D.
     const double inv_z2 = inv_z * inv_z;
-    d_proj << camera_.fx * inv_z, 0.0, -camera_.fx * p.x() * inv_z2,  //
-        0.0, camera_.fy * inv_z, -camera_.fy * p.y() * inv_z2,         //
+    d_res << camera_.fx * inv_z, 0.0, -camera_.fx * p.x() * inv_z2,  //
+        0.0, camera_.fy * inv_z, -camera_.fy * p.y() * inv_z2,        //
         camera_.fx * inv_z, 0.0, -camera_.fx * p.x() * inv_z2 + bf_ * inv_z2;
-    const Eigen::MatrixXd d_res = -sqrt_info_ * d_proj.topRows(n);  // n x 3
+    d_res *= -sqrt_info_;
 
     if (jacobians[0] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, kPoseBlockSize, Eigen::RowMajor>> j(jacobians[0], n,
-                                                                                          kPoseBlockSize);
       Eigen::Matrix3d skew;
       skew << 0.0, -point_in_world.z(), point_in_world.y(), point_in_world.z(), 0.0, -point_in_world.x(),
           -point_in_world.y(), point_in_world.x(), 0.0;
-      j.leftCols<3>() = d_res;
-      j.middleCols<3>(3) = d_res * (-r * skew);
-      j.col(6).setZero();
+      const Eigen::Matrix3d d_rot = d_res * (-r * skew);
+      for (int row = 0; row < n; ++row) {
+        double* j = jacobians[0] + row * kPoseBlockSize;
+        for (int c = 0; c < 3; ++c) {
+          j[c] = d_res(row, c);
+          j[3 + c] = d_rot(row, c);
+        }
+        j[6] = 0.0;
+      }
     }
     if (!has_fixed_point_ && jacobians[1] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> j(jacobians[1], n, 3);
-      j = d_res * r;
+      const Eigen::Matrix3d d_point = d_res * r;
+      for (int row = 0; row < n; ++row) {
+        for (int c = 0; c < 3; ++c) jacobians[1][row * 3 + c] = d_point(row, c);
+      }
     }
     return true;
   }
