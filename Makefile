@@ -8,7 +8,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libopencv-dev libeigen3-dev libceres-dev libgoogle-glog-dev libgflags-dev libyaml-cpp-dev \
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  opencv-doc python3 python3-numpy
+  zlib1g-dev opencv-doc python3 python3-numpy chromium
 
 .PHONY: deps configure build test demo bench clean
 
