@@ -27,48 +27,23 @@ demo_eval() {
   DEMO_OUTPUTS+=("$dir/eval.json" "$dir/eval.png" "$dir/eval.svg")
 }
 
-# The main job: a dynamic office sequence (people walking) and its static twin, rendered by
-# `dynorb synth`, then SLAM with every available mode, scored against the exact ground truth.
+# The main job: `dynorb bench` on bench/suites/demo.yaml — a synthetic office sequence with people
+# walking through it and its static twin (rendered by `dynorb synth`), SLAM with every available
+# mode, scored against the exact ground truth; tables in report.md/report.html.
 DEMO_FRAMES=${DEMO_FRAMES:-300}
-DEMO_PRESET=${DEMO_PRESET:-walking_xyz}
-
-available_modes() {
-  # plain is always there; the dynamic modes appear in `dynorb run --help` once built in.
-  "$DYNORB" run --help | sed -n 's/.*--mode TEXT:{\(.*\)}.*/\1/p' | tr ',' ' '
-}
 
 demo_slam() {
-  local data="$OUT_DIR/data" runs="$OUT_DIR/runs"
-  mkdir -p "$data" "$runs"
-  for variant in dynamic twin; do
-    local seq="$data/${DEMO_PRESET}_${variant}"
-    if [[ ! -f "$seq/groundtruth.txt" ]]; then
-      log "rendering $DEMO_FRAMES frames of $DEMO_PRESET ($variant) -> $seq"
-      local twin=()
-      [[ $variant == twin ]] && twin=(--static-twin)
-      rm -rf "$seq"
-      "$DYNORB" synth --preset "$DEMO_PRESET" --seed 7 --frames "$DEMO_FRAMES" --out "$seq" "${twin[@]}"
-    fi
-  done
-  local modes
-  modes=$(available_modes)
-  [[ -n $modes ]] || modes=plain
-  log "SLAM runs (modes: $modes)"
-  for mode in $modes; do
-    for variant in dynamic twin; do
-      # Dynamic modes on the static twin only matter for plain (the reference accuracy).
-      [[ $variant == twin && $mode != plain ]] && continue
-      local out="$runs/${mode}_${variant}"
-      echo "-- $mode on $variant"
-      if ! "$DYNORB" run --dataset "$data/${DEMO_PRESET}_${variant}" --out "$out" --mode "$mode" --quiet >"$out.log" 2>&1; then
-        echo "   skipped: $(tail -1 "$out.log")"
-        continue
-      fi
-      DEMO_OUTPUTS+=("$out/stats.json")
-    done
-  done
-  log "results ($DEMO_PRESET, $DEMO_FRAMES frames; ATE = TUM absolute trajectory error, SE(3)-aligned)"
-  python3 "$(dirname "$0")/demo_table.py" "$runs"
+  local suite="$(dirname "$0")/../bench/suites/demo.yaml" out="$OUT_DIR/bench"
+  if [[ $DEMO_FRAMES != 300 ]]; then  # a shorter demo: same suite, fewer frames
+    mkdir -p "$OUT_DIR"
+    sed "s/frames: 300/frames: $DEMO_FRAMES/" "$suite" >"$OUT_DIR/demo_suite.yaml"
+    suite="$OUT_DIR/demo_suite.yaml"
+  fi
+  log "SLAM benchmark: $suite -> $out"
+  "$DYNORB" bench --suite "$suite" --out "$out"
+  log "results (ATE = TUM absolute trajectory error, SE(3)-aligned; ratio = ATE / ATE of the static twin)"
+  python3 "$(dirname "$0")/demo_table.py" "$out"
+  DEMO_OUTPUTS+=("$out/report.html" "$out/report.md" "$out/results.json")
 }
 
 main() {

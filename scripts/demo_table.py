@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Prints the demo's comparison table from the stats.json files under a runs folder."""
+"""Prints the demo's comparison table from a `dynorb bench` output folder
+(runs/<sequence>/<mode>/seed1/stats.json; a sequence ending in _twin is the static twin)."""
 import json
 import pathlib
 import sys
@@ -7,8 +8,9 @@ import sys
 
 def main(runs: pathlib.Path) -> int:
     rows = {}
-    for stats_path in sorted(runs.glob("*/stats.json")):
-        mode, variant = stats_path.parent.name.rsplit("_", 1)
+    for stats_path in sorted(runs.glob("runs/*/*/seed1/stats.json")):
+        mode = stats_path.parent.parent.name
+        variant = "twin" if stats_path.parent.parent.parent.name.endswith("_twin") else "dynamic"
         rows[(mode, variant)] = json.loads(stats_path.read_text())
     if not rows:
         print("no runs completed")
@@ -26,7 +28,7 @@ def main(runs: pathlib.Path) -> int:
         dyn = s.get("dynamic_keypoints", {})
         ratio = f"{ate / twin_ate:13.1f}" if ate is not None and twin_ate else f"{'-':>13}"
         speed = f"{ms / plain_ms:13.2f}x" if plain_ms else f"{'-':>14}"
-        has_filter = mode != "plain" and dyn
+        has_filter = mode != "plain" and dyn and dyn.get("true_positive", 0) + dyn.get("false_negative", 0) > 0
         recall = f"{dyn['recall']:14.2f}" if has_filter else f"{'-':>14}"
         precision = f"{dyn['precision']:9.2f}" if has_filter else f"{'-':>9}"
         ate_text = f"{ate:12.4f}" if ate is not None else f"{'-':>12}"
