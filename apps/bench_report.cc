@@ -7,34 +7,13 @@
 #include "bench_tables.h"
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
+#include "dynorb/eval/text_format.h"
 
 namespace dynorb {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string EscapeHtml(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string EscapeMarkdownCell(const std::string& text) {
   std::string out;
@@ -83,19 +62,19 @@ figcaption { color: #555; font-size: 0.9em; }
 std::string Html(const BenchReportContent& r) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
-       << EscapeHtml(r.title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>"
-       << EscapeHtml(r.title) << "</h1>\n<ul>\n";
-  for (const std::string& line : r.summary) html << "<li>" << EscapeHtml(line) << "</li>\n";
+       << EscapeXml(r.title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>"
+       << EscapeXml(r.title) << "</h1>\n<ul>\n";
+  for (const std::string& line : r.summary) html << "<li>" << EscapeXml(line) << "</li>\n";
   html << "</ul>\n";
   for (const BenchTable& t : r.tables) {
-    html << "<h2 id=\"" << EscapeHtml(t.id) << "\">" << EscapeHtml(t.title) << "</h2>\n";
-    if (!t.note.empty()) html << "<p class=\"note\">" << EscapeHtml(t.note) << "</p>\n";
-    html << "<table class=\"bench\" id=\"table-" << EscapeHtml(t.id) << "\">\n<thead><tr>";
-    for (const std::string& h : t.header) html << "<th>" << EscapeHtml(h) << "</th>";
+    html << "<h2 id=\"" << EscapeXml(t.id) << "\">" << EscapeXml(t.title) << "</h2>\n";
+    if (!t.note.empty()) html << "<p class=\"note\">" << EscapeXml(t.note) << "</p>\n";
+    html << "<table class=\"bench\" id=\"table-" << EscapeXml(t.id) << "\">\n<thead><tr>";
+    for (const std::string& h : t.header) html << "<th>" << EscapeXml(h) << "</th>";
     html << "</tr></thead>\n<tbody>\n";
     for (const auto& row : t.rows) {
       html << "<tr>";
-      for (const std::string& cell : row) html << "<td>" << EscapeHtml(cell) << "</td>";
+      for (const std::string& cell : row) html << "<td>" << EscapeXml(cell) << "</td>";
       html << "</tr>\n";
     }
     html << "</tbody>\n</table>\n";
@@ -103,8 +82,8 @@ std::string Html(const BenchReportContent& r) {
   if (!r.figures.empty()) {
     html << "<h2 id=\"figures\">Figures</h2>\n";
     for (const BenchFigure& f : r.figures) {
-      html << "<figure><img src=\"" << EscapeHtml(f.path) << "\" alt=\"" << EscapeHtml(f.caption)
-           << "\" loading=\"eager\"><figcaption>" << EscapeHtml(f.caption)
+      html << "<figure><img src=\"" << EscapeXml(f.path) << "\" alt=\"" << EscapeXml(f.caption)
+           << "\" loading=\"eager\"><figcaption>" << EscapeXml(f.caption)
            << "</figcaption></figure>\n";
     }
   }

@@ -8,15 +8,9 @@
 #include <tuple>
 
 #include "dynorb/core/error.h"
+#include "dynorb/eval/text_format.h"
 
 namespace dynorb {
-namespace {
-std::string ShortNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
-}  // namespace
 namespace {
 
 void CheckIncreasing(const std::vector<double>& stamps, const char* what) {

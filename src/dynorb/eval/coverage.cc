@@ -6,15 +6,9 @@
 #include <string>
 
 #include "dynorb/core/error.h"
+#include "dynorb/eval/text_format.h"
 
 namespace dynorb {
-namespace {
-std::string ShortNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
-}  // namespace
 
 void CoverageOptions::Validate() const {
   if (!(window_s > 0.0) || !std::isfinite(window_s)) {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "dynorb/eval/plot.h"
+#include "dynorb/eval/text_format.h"
 
 namespace dynorb {
 namespace {
@@ -28,28 +29,6 @@ std::string Hex(PlotColor c) {
   return buf;
 }
 
-std::string EscapeXml(const std::string& text) {
-  std::string out;
-  for (char ch : text) {
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += ch;
-    }
-  }
-  return out;
-}
 
 void DrawLayer(const PlotLayer& canvas, cv::Mat& image) {
   for (const PlotRect& r : canvas.rects) {

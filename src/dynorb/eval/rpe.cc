@@ -7,15 +7,9 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/eval/association.h"
+#include "dynorb/eval/text_format.h"
 
 namespace dynorb {
-namespace {
-std::string ShortNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
-}  // namespace
 namespace {
 
 constexpr double kDegPerRad = 57.295779513082320876798;
