@@ -36,8 +36,8 @@ DYNORB_ALWAYS_INLINE void NearestNeighboursKernel(const cv::Mat& query, const cv
     for (int t = 0; t < nt; ++t) {
       uint64_t tw[4];
       std::memcpy(tw, train.ptr<uint8_t>(t), 32);
-      const int d = __builtin_popcountll(qw[0] ^ tw[0]) + __builtin_popcountll(qw[1] ^ tw[1]) +
-                    __builtin_popcountll(qw[2] ^ tw[2]) + __builtin_popcountll(qw[3] ^ tw[3]);
+      const int d = Popcount64(qw[0] ^ tw[0]) + Popcount64(qw[1] ^ tw[1]) + Popcount64(qw[2] ^ tw[2]) +
+                    Popcount64(qw[3] ^ tw[3]);
       if (d < best_d) {
         second_d = best_d;
         best_d = d;

@@ -15,6 +15,19 @@
 
 namespace dynorb {
 
+// Set bits of a 64-bit word. Without -mpopcnt (Debian's amd64 baseline) __builtin_popcountll is
+// an out-of-line libgcc call that cost 6 % of a whole SLAM run; the inline SWAR sum is branch-free.
+inline int Popcount64(uint64_t x) {
+#if defined(__POPCNT__)
+  return __builtin_popcountll(x);
+#else
+  x = x - ((x >> 1) & 0x5555555555555555ULL);
+  x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
+  return static_cast<int>((x * 0x0101010101010101ULL) >> 56);
+#endif
+}
+
 // Number of differing bits between two 256-bit descriptors (4 × 64-bit popcount).
 inline int HammingDistance256(const uint8_t* a, const uint8_t* b) {
   int distance = 0;
@@ -22,7 +35,7 @@ inline int HammingDistance256(const uint8_t* a, const uint8_t* b) {
     uint64_t wa, wb;
     std::memcpy(&wa, a + 8 * w, 8);
     std::memcpy(&wb, b + 8 * w, 8);
-    distance += __builtin_popcountll(wa ^ wb);
+    distance += Popcount64(wa ^ wb);
   }
   return distance;
 }

@@ -25,6 +25,20 @@ int NaiveDistance(const uint8_t* a, const uint8_t* b) {
   return d;
 }
 
+TEST(Popcount64, EdgeWordsAndRandomWordsMatchBitLoop) {
+  EXPECT_EQ(Popcount64(0), 0);
+  EXPECT_EQ(Popcount64(~0ULL), 64);
+  EXPECT_EQ(Popcount64(1ULL << 63), 1);
+  EXPECT_EQ(Popcount64(0x8000000000000001ULL), 2);
+  std::mt19937_64 rng(3);
+  for (int k = 0; k < 1000; ++k) {
+    const uint64_t x = rng();
+    int bits = 0;
+    for (int b = 0; b < 64; ++b) bits += static_cast<int>((x >> b) & 1ULL);
+    EXPECT_EQ(Popcount64(x), bits) << std::hex << x;
+  }
+}
+
 TEST(HammingDistance256, MatchesNaiveBitCount) {
   const cv::Mat a = RandomDescriptors(200, 1), b = RandomDescriptors(200, 2);
   for (int i = 0; i < 200; ++i) {

@@ -48,28 +48,43 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
   std::vector<Eigen::Vector3d> points = points_in_world;
   result.observation_inlier.assign(observations.size(), true);
 
-  for (int stage = 0; stage < 2; ++stage) {
+  // One problem for both stages (building it costs as much as an LM iteration): the Huber
+  // kernels sit behind wrappers that are switched to plain L2 for the second stage, and the
+  // first stage's outliers are removed from the problem instead of rebuilding it.
+  ceres::LossFunctionWrapper loss_mono(new ceres::HuberLoss(std::sqrt(options.chi2_mono)), ceres::TAKE_OWNERSHIP);
+  ceres::LossFunctionWrapper loss_stereo(new ceres::HuberLoss(std::sqrt(options.chi2_stereo)),
+                                         ceres::TAKE_OWNERSHIP);
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.enable_fast_removal = true;
+  ceres::Problem problem(problem_options);
+  std::vector<ceres::ResidualBlockId> blocks(observations.size(), nullptr);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const BaObservation& obs = observations[i];
+    double* pose = poses.at(obs.keyframe_index).data();
+    double* point = points.at(obs.landmark_index).data();
+    if (!problem.HasParameterBlock(pose)) {
+      problem.AddParameterBlock(pose, kPoseBlockSize, NewPoseManifold());
+      if (keyframes[obs.keyframe_index].fixed) problem.SetParameterBlockConstant(pose);
+    }
+    ceres::LossFunction* loss = obs.keypoint.IsStereo() ? &loss_stereo : &loss_mono;
+    blocks[i] = problem.AddResidualBlock(NewReprojectionCost(camera, bf, obs.keypoint), loss, pose, point);
+  }
+
+  for (int stage = 0; stage < 2 && !observations.empty(); ++stage) {
     const int iterations = stage == 0 ? options.first_iterations : options.second_iterations;
     if (iterations == 0) break;
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    int residuals = 0;
-    for (size_t i = 0; i < observations.size(); ++i) {
-      if (!result.observation_inlier[i]) continue;
-      const BaObservation& obs = observations[i];
-      double* pose = poses.at(obs.keyframe_index).data();
-      double* point = points.at(obs.landmark_index).data();
-      if (!problem.HasParameterBlock(pose)) {
-        problem.AddParameterBlock(pose, kPoseBlockSize, NewPoseManifold());
-        if (keyframes[obs.keyframe_index].fixed) problem.SetParameterBlockConstant(pose);
+    if (stage == 1) {
+      loss_mono.Reset(nullptr, ceres::TAKE_OWNERSHIP);
+      loss_stereo.Reset(nullptr, ceres::TAKE_OWNERSHIP);
+      for (size_t i = 0; i < observations.size(); ++i) {
+        if (result.observation_inlier[i] || blocks[i] == nullptr) continue;
+        problem.RemoveResidualBlock(blocks[i]);
+        blocks[i] = nullptr;
       }
-      const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
-      ceres::LossFunction* loss = stage == 0 ? new ceres::HuberLoss(std::sqrt(gate)) : nullptr;
-      problem.AddResidualBlock(NewReprojectionCost(camera, bf, obs.keypoint), loss, pose, point);
-      ++residuals;
     }
-    if (residuals == 0) break;
+    if (problem.NumResidualBlocks() == 0) break;
     double initial = 0.0;
     result.final_cost = Solve(&problem, iterations, &initial);
     if (stage == 0) result.initial_cost = initial;
@@ -79,7 +94,9 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
       const BaObservation& obs = observations[i];
       const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
       const Eigen::Vector3d point_in_cam = FromPoseBlock(poses[obs.keyframe_index].data()) * points[obs.landmark_index];
-      result.observation_inlier[i] = ReprojectionChi2(camera, bf, obs.keypoint, point_in_cam) <= gate;
+      // An observation removed after the first stage stays out (ORB-SLAM2 excludes it too).
+      result.observation_inlier[i] =
+          blocks[i] != nullptr && ReprojectionChi2(camera, bf, obs.keypoint, point_in_cam) <= gate;
     }
   }
   for (const PoseBlock& p : poses) result.cam_from_world.push_back(FromPoseBlock(p.data()));

@@ -29,28 +29,43 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   if (observations.empty()) return result;
 
   PoseBlock pose = ToPoseBlock(initial_cam_from_world);
+  // One problem for all rounds: Huber kernels behind wrappers (switched to L2 after the robust
+  // rounds); each round removes the blocks of new outliers and re-adds returning inliers.
+  ceres::LossFunctionWrapper loss_mono(new ceres::HuberLoss(std::sqrt(options.chi2_mono)), ceres::TAKE_OWNERSHIP);
+  ceres::LossFunctionWrapper loss_stereo(new ceres::HuberLoss(std::sqrt(options.chi2_stereo)),
+                                         ceres::TAKE_OWNERSHIP);
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.enable_fast_removal = true;
+  ceres::Problem problem(problem_options);
+  problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
+  std::vector<ceres::ResidualBlockId> blocks(observations.size(), nullptr);
+  ceres::Solver::Options solver_options;
+  // Six unknowns: the normal equations are tiny and well conditioned, Cholesky beats QR.
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = options.iterations_per_round;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+
   for (int round = 0; round < options.num_rounds; ++round) {
-    const bool robust = round < options.robust_rounds;
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
-    int used = 0;
-    for (size_t i = 0; i < observations.size(); ++i) {
-      if (!result.inlier[i]) continue;
-      const PoseObservation& obs = observations[i];
-      const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
-      ceres::LossFunction* loss = robust ? new ceres::HuberLoss(std::sqrt(gate)) : nullptr;
-      problem.AddResidualBlock(NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world), loss,
-                               pose.data());
-      ++used;
+    if (round == options.robust_rounds) {
+      loss_mono.Reset(nullptr, ceres::TAKE_OWNERSHIP);
+      loss_stereo.Reset(nullptr, ceres::TAKE_OWNERSHIP);
     }
-    if (used < 3) break;
-    ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = options.iterations_per_round;
-    solver_options.num_threads = 1;
-    solver_options.logging_type = ceres::SILENT;
+    for (size_t i = 0; i < observations.size(); ++i) {
+      if (result.inlier[i] == (blocks[i] != nullptr)) continue;
+      if (blocks[i] != nullptr) {
+        problem.RemoveResidualBlock(blocks[i]);
+        blocks[i] = nullptr;
+        continue;
+      }
+      const PoseObservation& obs = observations[i];
+      ceres::LossFunction* loss = obs.keypoint.IsStereo() ? &loss_stereo : &loss_mono;
+      blocks[i] = problem.AddResidualBlock(
+          NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world), loss, pose.data());
+    }
+    if (problem.NumResidualBlocks() < 3) break;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
 

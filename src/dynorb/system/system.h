@@ -20,7 +20,7 @@
 #include "dynorb/features/orb_extractor.h"
 #include "dynorb/map/map.h"
 #include "dynorb/mapping/local_mapper.h"
-#include "dynorb/system/blocking_queue.h"
+#include "dynorb/core/blocking_queue.h"
 #include "dynorb/tracking/tracker.h"
 
 namespace dynorb {

@@ -13,7 +13,8 @@ namespace dynorb {
 void TrackerOptions::Validate() const {
   if (min_init_points < 10 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
       min_local_map_inliers < 3 || max_local_keyframes < 1 || max_frames_between_keyframes < 1 ||
-      reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1) {
+      reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
+      close_tracked_max < 0 || close_untracked_min < 0) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }
   pose.Validate();
@@ -219,7 +220,8 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle)
       ++untracked_close;
     }
   }
-  const bool need_close = tracked_close < options_.close_tracked_max && untracked_close > options_.close_untracked_min;
+  const bool need_close = tracked_close < options_.close_tracked_max && untracked_close > options_.close_untracked_min &&
+                          frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.close_keyframe_min_frames);
   const double ratio = num_keyframes < 2 ? 0.4 : options_.reference_ratio;
   const bool c1a = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(max_frames);
   const bool c1b = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.min_frames_between_keyframes) &&

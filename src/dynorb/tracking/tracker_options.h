@@ -23,6 +23,10 @@ struct TrackerOptions {
   double reference_ratio = 0.75;           // Insert when tracking < ratio x reference matches.
   int close_tracked_max = 100;             // "Need close points": tracked close < this ...
   int close_untracked_min = 70;            // ... and untracked close > this.
+  // Frames after a keyframe before "need close points" may ask for another (not in ORB-SLAM2,
+  // where a busy mapper spaces them). Unrepeatable close keypoints (texture-poor desks, sensor
+  // noise) otherwise keep the rule true and give a keyframe per frame, half of them culled again.
+  int close_keyframe_min_frames = 5;
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
   int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
   uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
