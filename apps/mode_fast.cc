@@ -1,88 +1,96 @@
 // `dynorb run --mode fast`: the deep-learning-free geometric moving-keypoint filter
 // (src/dynorb/dynamic/fast_filter.h, docs/fast_mode.md), configured by the YAML section `fast:`.
+#include "mode_fast.h"
+
 #include <memory>
 
 #include "dynorb/dynamic/fast_filter.h"
-#include "run_modes.h"
 
 namespace dynorb {
+
+void FastModeFactory::BindConfig(ConfigSchema* schema) {
+  FastOptions& o = options_;
+  schema->Section("fast", "FAST dynamic mode: geometric moving-object cues (docs/fast_mode.md)")
+      .Add("correspondences", &o.correspondences,
+           "flow (pyramidal LK + forward-backward) or descriptors (BF Hamming)")
+      .Add("lk_window_px", &o.lk_window_px, "LK window side (px, odd)")
+      .Add("lk_levels", &o.lk_levels, "LK pyramid levels above the base image")
+      .Add("lk_iterations", &o.lk_iterations, "LK iterations per level")
+      .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
+      .Add("lk_predict_initial", &o.lk_predict_initial,
+           "seed LK with the motion-model + depth prediction")
+      .Add("bf_best_fraction", &o.bf_best_fraction,
+           "descriptors: fraction of best matches used for F")
+      .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")
+      .Add("use_epipolar", &o.use_epipolar, "epipolar-distance cue")
+      .Add("f_ransac_px", &o.f_ransac_px, "RANSAC inlier threshold for F (px)")
+      .Add("f_confidence", &o.f_confidence, "RANSAC confidence for F")
+      .Add("epi_t1_px", &o.epi_t1_px, "epipolar distance <= t1: static")
+      .Add("epi_t2_px", &o.epi_t2_px, "epipolar distance >= t2: mismatch (no evidence)")
+      .Add("check_f_with_prediction", &o.check_f_with_prediction,
+           "replace an F that disagrees with the ego-motion")
+      .Add("use_direction", &o.use_direction, "flow-direction cue (vs nearest static inlier)")
+      .Add("direction_max_deg", &o.direction_max_deg, "angle difference above this: moving")
+      .Add("direction_min_flow_px", &o.direction_min_flow_px,
+           "min flow length to compare directions")
+      .Add("use_magnitude", &o.use_magnitude, "flow-magnitude statistics cue")
+      .Add("magnitude_sigmas", &o.magnitude_sigmas, "|m - mean| > k sigma: moving")
+      .Add("magnitude_min_sigma_px", &o.magnitude_min_sigma_px,
+           "below this sigma the plain difference decides")
+      .Add("magnitude_abs_diff_px", &o.magnitude_abs_diff_px,
+           "plain difference from the mean meaning moving")
+      .Add("use_residual", &o.use_residual, "rigid-warp residual cue (ego-motion + depth)")
+      .Add("refine_ego_motion", &o.refine_ego_motion,
+           "refine the motion-model prediction on tracked points")
+      .Add("residual_px", &o.residual_px,
+           "warp residual above this (+ residual_rel * flow): moving")
+      .Add("residual_rel", &o.residual_rel, "fraction of the flow length added to residual_px")
+      .Add("use_depth", &o.use_depth, "depth-consistency cue")
+      .Add("depth_abs_m", &o.depth_abs_m, "depth tolerance: abs + rel * z^2 (m)")
+      .Add("depth_rel", &o.depth_rel, "depth tolerance: rel (1/m)")
+      .Add("max_depth_m", &o.max_depth_m, "ignore depth beyond this (m)")
+      .Add("weight_residual", &o.weight_residual, "vote weight of the residual cue")
+      .Add("weight_depth", &o.weight_depth, "vote weight of the depth cue")
+      .Add("weight_epipolar", &o.weight_epipolar, "vote weight of the epipolar cue")
+      .Add("weight_direction", &o.weight_direction, "vote weight of the direction cue")
+      .Add("weight_magnitude", &o.weight_magnitude, "vote weight of the magnitude cue")
+      .Add("seed_score", &o.seed_score, "fused score making a moving seed")
+      .Add("use_region", &o.use_region, "grow seeds into depth regions")
+      .Add("region_scale", &o.region_scale, "region grid is 1/region_scale of the image")
+      .Add("region_edge_abs_m", &o.region_edge_abs_m, "neighbour depth step allowed: abs (m)")
+      .Add("region_edge_rel", &o.region_edge_rel, "neighbour depth step allowed: rel * z")
+      .Add("region_band_m", &o.region_band_m, "max depth distance from the seed (m)")
+      .Add("region_min_seeds", &o.region_min_seeds, "seeds needed for a dynamic region")
+      .Add("region_max_static_ratio", &o.region_max_static_ratio,
+           "max static/(static+seed) points in a region")
+      .Add("region_min_coherence", &o.region_min_coherence,
+           "min agreement of the seeds' own motions")
+      .Add("region_max_area", &o.region_max_area, "max region area (fraction of the image)")
+      .Add("region_dilate_px", &o.region_dilate_px, "dilation of the dynamic mask (px)")
+      .Add("suspect_frames", &o.suspect_frames,
+           "a dynamic region stays suspect this many frames (0: off)")
+      .Add("suspect_depth_m", &o.suspect_depth_m, "suspect only where the depth still matches (m)")
+      .Add("track_history", &o.track_history, "keypoint-track memory (frames)")
+      .Add("track_min_moving", &o.track_min_moving, "a track seen moving this often is excluded")
+      .OnLoaded([this] { options_.Validate(); });
+}
+
+std::unique_ptr<KeypointFilter> FastModeFactory::Create(const RunModeContext& context) {
+  FastOptions options = options_;
+  options.seed = context.seed;
+  OrbOptions orb;
+  orb.n_features = context.config->orb.n_features;
+  orb.scale_factor = context.config->orb.scale_factor;
+  orb.n_levels = context.config->orb.n_levels;
+  orb.ini_th_fast = context.config->orb.ini_th_fast;
+  orb.min_th_fast = context.config->orb.min_th_fast;
+  return std::make_unique<FastFilter>(options, context.sensor.camera, orb);
+}
+
 namespace {
-
-class FastModeFactory : public RunModeFactory {
- public:
-  void BindConfig(ConfigSchema* schema) override {
-    FastOptions& o = options_;
-    schema->Section("fast", "FAST dynamic mode: geometric moving-object cues (docs/fast_mode.md)")
-        .Add("correspondences", &o.correspondences, "flow (pyramidal LK + forward-backward) or descriptors (BF Hamming)")
-        .Add("lk_window_px", &o.lk_window_px, "LK window side (px, odd)")
-        .Add("lk_levels", &o.lk_levels, "LK pyramid levels above the base image")
-        .Add("lk_iterations", &o.lk_iterations, "LK iterations per level")
-        .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
-        .Add("lk_predict_initial", &o.lk_predict_initial, "seed LK with the motion-model + depth prediction")
-        .Add("bf_best_fraction", &o.bf_best_fraction, "descriptors: fraction of best matches used for F")
-        .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")
-        .Add("use_epipolar", &o.use_epipolar, "epipolar-distance cue")
-        .Add("f_ransac_px", &o.f_ransac_px, "RANSAC inlier threshold for F (px)")
-        .Add("f_confidence", &o.f_confidence, "RANSAC confidence for F")
-        .Add("epi_t1_px", &o.epi_t1_px, "epipolar distance <= t1: static")
-        .Add("epi_t2_px", &o.epi_t2_px, "epipolar distance >= t2: mismatch (no evidence)")
-        .Add("check_f_with_prediction", &o.check_f_with_prediction, "replace an F that disagrees with the ego-motion")
-        .Add("use_direction", &o.use_direction, "flow-direction cue (vs nearest static inlier)")
-        .Add("direction_max_deg", &o.direction_max_deg, "angle difference above this: moving")
-        .Add("direction_min_flow_px", &o.direction_min_flow_px, "min flow length to compare directions")
-        .Add("use_magnitude", &o.use_magnitude, "flow-magnitude statistics cue")
-        .Add("magnitude_sigmas", &o.magnitude_sigmas, "|m - mean| > k sigma: moving")
-        .Add("magnitude_min_sigma_px", &o.magnitude_min_sigma_px, "below this sigma the plain difference decides")
-        .Add("magnitude_abs_diff_px", &o.magnitude_abs_diff_px, "plain difference from the mean meaning moving")
-        .Add("use_residual", &o.use_residual, "rigid-warp residual cue (ego-motion + depth)")
-        .Add("refine_ego_motion", &o.refine_ego_motion, "refine the motion-model prediction on tracked points")
-        .Add("residual_px", &o.residual_px, "warp residual above this (+ residual_rel * flow): moving")
-        .Add("residual_rel", &o.residual_rel, "fraction of the flow length added to residual_px")
-        .Add("use_depth", &o.use_depth, "depth-consistency cue")
-        .Add("depth_abs_m", &o.depth_abs_m, "depth tolerance: abs + rel * z^2 (m)")
-        .Add("depth_rel", &o.depth_rel, "depth tolerance: rel (1/m)")
-        .Add("max_depth_m", &o.max_depth_m, "ignore depth beyond this (m)")
-        .Add("weight_residual", &o.weight_residual, "vote weight of the residual cue")
-        .Add("weight_depth", &o.weight_depth, "vote weight of the depth cue")
-        .Add("weight_epipolar", &o.weight_epipolar, "vote weight of the epipolar cue")
-        .Add("weight_direction", &o.weight_direction, "vote weight of the direction cue")
-        .Add("weight_magnitude", &o.weight_magnitude, "vote weight of the magnitude cue")
-        .Add("seed_score", &o.seed_score, "fused score making a moving seed")
-        .Add("use_region", &o.use_region, "grow seeds into depth regions")
-        .Add("region_scale", &o.region_scale, "region grid is 1/region_scale of the image")
-        .Add("region_edge_abs_m", &o.region_edge_abs_m, "neighbour depth step allowed: abs (m)")
-        .Add("region_edge_rel", &o.region_edge_rel, "neighbour depth step allowed: rel * z")
-        .Add("region_band_m", &o.region_band_m, "max depth distance from the seed (m)")
-        .Add("region_min_seeds", &o.region_min_seeds, "seeds needed for a dynamic region")
-        .Add("region_max_static_ratio", &o.region_max_static_ratio, "max static/(static+seed) points in a region")
-        .Add("region_min_coherence", &o.region_min_coherence, "min agreement of the seeds' own motions")
-        .Add("region_max_area", &o.region_max_area, "max region area (fraction of the image)")
-        .Add("region_dilate_px", &o.region_dilate_px, "dilation of the dynamic mask (px)")
-        .Add("suspect_frames", &o.suspect_frames, "a dynamic region stays suspect this many frames (0: off)")
-        .Add("suspect_depth_m", &o.suspect_depth_m, "suspect only where the depth still matches (m)")
-        .Add("track_history", &o.track_history, "keypoint-track memory (frames)")
-        .Add("track_min_moving", &o.track_min_moving, "a track seen moving this often is excluded")
-        .OnLoaded([this] { options_.Validate(); });
-  }
-
-  std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override {
-    FastOptions options = options_;
-    options.seed = context.seed;
-    OrbOptions orb;
-    orb.n_features = context.config->orb.n_features;
-    orb.scale_factor = context.config->orb.scale_factor;
-    orb.n_levels = context.config->orb.n_levels;
-    orb.ini_th_fast = context.config->orb.ini_th_fast;
-    orb.min_th_fast = context.config->orb.min_th_fast;
-    return std::make_unique<FastFilter>(options, context.sensor.camera, orb);
-  }
-
- private:
-  FastOptions options_;
-};
-
-const bool kRegistered = RegisterRunMode("fast", "geometric moving-object cues: flow, epipolar, depth regions (no DL)",
-                                         [] { return std::make_unique<FastModeFactory>(); });
+const bool kRegistered =
+    RegisterRunMode("fast", "geometric moving-object cues: flow, epipolar, depth regions (no DL)",
+                    [] { return std::make_unique<FastModeFactory>(); });
 
 }  // namespace
 }  // namespace dynorb

@@ -1,75 +1,74 @@
 // `dynorb run --mode semantic`: a-priori dynamic objects masked by a real detector (OpenCV DNN,
 // src/dynorb/dynamic/semantic_filter.h, docs/semantic_mode.md), by masks/boxes from disk or by
 // the synthetic ground truth (oracle). Configured by the YAML section `semantic:`.
+#include "mode_semantic.h"
+
 #include <filesystem>
 #include <memory>
-
 #include <opencv2/core/utility.hpp>
 
 #include "dynorb/core/error.h"
 #include "dynorb/dynamic/mask_file.h"
 #include "dynorb/dynamic/semantic_filter.h"
-#include "run_modes.h"
 
 namespace dynorb {
+
+void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
+  SemanticOptions& o = options_;
+  schema->Section("semantic", "semantic dynamic mode: detector masks (docs/semantic_mode.md)")
+      .Add("source", &source_,
+           "detector | masks (PNG list) | boxes (text list) | oracle (DATASET/masks.txt)")
+      .Add("list", &list_, "masks/boxes list file (source masks or boxes)")
+      .Add("model", &o.detector.model,
+           "yolo_fastest_1.1 | yolo_fastest_1.1_xl | yolo_fastest_1.1_body | yolox_nano | "
+           "fastestdet | nanodet_m_320")
+      .Add("score_threshold", &o.detector.score_threshold, "minimum detection confidence")
+      .Add("nms_iou", &o.detector.nms_iou, "class-wise NMS IoU threshold")
+      .Add("classes", &o.classes, "a-priori dynamic COCO classes")
+      .Add("detect_every", &o.detect_every,
+           "run the detector on every Nth frame, carry masks by flow between")
+      .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
+      .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
+      .Add("refine_with_depth", &o.refine.enabled,
+           "box -> foreground depth cluster (false: whole box)")
+      .Add("depth_band_m", &o.refine.band_m, "depth cluster half-width (m)")
+      .Add("depth_band_per_m", &o.refine.band_per_m, "depth cluster half-width growth per metre")
+      .Add("dilation_px", &o.refine.dilation_px, "mask dilation (px)")
+      .Add("min_valid_depth_fraction", &o.refine.min_valid_fraction,
+           "below this, the whole box is masked")
+      .OnLoaded([this] {
+        if (source_ != "detector" && source_ != "masks" && source_ != "boxes" &&
+            source_ != "oracle") {
+          throw InputError("semantic.source must be detector, masks, boxes or oracle, got '" +
+                           source_ + "'");
+        }
+        if (threads_ < 0) throw InputError("semantic.threads must be >= 0");
+        options_.Validate();
+      });
+}
+
+std::unique_ptr<KeypointFilter> SemanticModeFactory::Create(const RunModeContext& context) {
+  if (threads_ > 0) cv::setNumThreads(threads_);
+  SemanticOptions options = options_;
+  options.detector.models_dir = ResolveModelsDir(context.models_dir);
+  std::unique_ptr<MaskProvider> provider;
+  if (source_ == "detector") {
+    provider = std::make_unique<DetectorMaskProvider>(options);
+  } else {
+    options.detect_every = 1;  // files give every frame
+    std::string list = list_;
+    if (source_ == "oracle") list = (std::filesystem::path(context.dataset) / "masks.txt").string();
+    if (list.empty()) throw InputError("semantic.source " + source_ + " needs semantic.list");
+    provider = std::make_unique<FileMaskProvider>(
+        list, source_ == "boxes" ? MaskFileKind::kBoxes : MaskFileKind::kMasks, options.refine);
+  }
+  return std::make_unique<SemanticFilter>(std::move(provider), options);
+}
+
 namespace {
-
-class SemanticModeFactory : public RunModeFactory {
- public:
-  void BindConfig(ConfigSchema* schema) override {
-    SemanticOptions& o = options_;
-    schema->Section("semantic", "semantic dynamic mode: detector masks (docs/semantic_mode.md)")
-        .Add("source", &source_, "detector | masks (PNG list) | boxes (text list) | oracle (DATASET/masks.txt)")
-        .Add("list", &list_, "masks/boxes list file (source masks or boxes)")
-        .Add("model", &o.detector.model,
-             "yolo_fastest_1.1 | yolo_fastest_1.1_xl | yolo_fastest_1.1_body | yolox_nano | fastestdet | nanodet_m_320")
-        .Add("score_threshold", &o.detector.score_threshold, "minimum detection confidence")
-        .Add("nms_iou", &o.detector.nms_iou, "class-wise NMS IoU threshold")
-        .Add("classes", &o.classes, "a-priori dynamic COCO classes")
-        .Add("detect_every", &o.detect_every, "run the detector on every Nth frame, carry masks by flow between")
-        .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
-        .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
-        .Add("refine_with_depth", &o.refine.enabled, "box -> foreground depth cluster (false: whole box)")
-        .Add("depth_band_m", &o.refine.band_m, "depth cluster half-width (m)")
-        .Add("depth_band_per_m", &o.refine.band_per_m, "depth cluster half-width growth per metre")
-        .Add("dilation_px", &o.refine.dilation_px, "mask dilation (px)")
-        .Add("min_valid_depth_fraction", &o.refine.min_valid_fraction, "below this, the whole box is masked")
-        .OnLoaded([this] {
-          if (source_ != "detector" && source_ != "masks" && source_ != "boxes" && source_ != "oracle") {
-            throw InputError("semantic.source must be detector, masks, boxes or oracle, got '" + source_ + "'");
-          }
-          if (threads_ < 0) throw InputError("semantic.threads must be >= 0");
-          options_.Validate();
-        });
-  }
-
-  std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override {
-    if (threads_ > 0) cv::setNumThreads(threads_);
-    SemanticOptions options = options_;
-    options.detector.models_dir = ResolveModelsDir(context.models_dir);
-    std::unique_ptr<MaskProvider> provider;
-    if (source_ == "detector") {
-      provider = std::make_unique<DetectorMaskProvider>(options);
-    } else {
-      options.detect_every = 1;  // files give every frame
-      std::string list = list_;
-      if (source_ == "oracle") list = (std::filesystem::path(context.dataset) / "masks.txt").string();
-      if (list.empty()) throw InputError("semantic.source " + source_ + " needs semantic.list");
-      provider = std::make_unique<FileMaskProvider>(
-          list, source_ == "boxes" ? MaskFileKind::kBoxes : MaskFileKind::kMasks, options.refine);
-    }
-    return std::make_unique<SemanticFilter>(std::move(provider), options);
-  }
-
- private:
-  SemanticOptions options_;
-  std::string source_ = "detector";
-  std::string list_;
-  int threads_ = 0;
-};
-
-const bool kRegistered = RegisterRunMode("semantic", "a-priori dynamic objects masked by a DNN detector",
-                                         [] { return std::make_unique<SemanticModeFactory>(); });
+const bool kRegistered =
+    RegisterRunMode("semantic", "a-priori dynamic objects masked by a DNN detector",
+                    [] { return std::make_unique<SemanticModeFactory>(); });
 
 }  // namespace
 }  // namespace dynorb

@@ -1,6 +1,7 @@
 #include "run_report.h"
 
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "dynorb/core/stats.h"
@@ -30,6 +31,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   const std::vector<FrameRecord>& records = system.records();
   int tracked = 0, lost_episodes = 0, relocalizations = 0, keyframes_inserted = 0;
   bool was_lost = false;
+  std::map<std::string, std::vector<double>> filter_stages;  // Name order: deterministic JSON.
   std::vector<double> detect, filter, describe, track, local_map, mapping, total, keypoints, filtered, inliers;
   for (const FrameRecord& r : records) {
     tracked += r.pose_valid ? 1 : 0;
@@ -40,6 +42,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     keyframes_inserted += r.new_keyframe ? 1 : 0;
     detect.push_back(r.timing.detect_ms);
     filter.push_back(r.timing.filter_ms);
+    for (const auto& [stage, ms] : r.timing.filter_stages_ms) filter_stages[stage].push_back(ms);
     describe.push_back(r.timing.describe_ms);
     track.push_back(r.timing.track_ms);
     local_map.push_back(r.timing.local_map_ms);
@@ -80,6 +83,11 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
                     {"local_map", StatsJson(local_map)}, {"mapping_inline", StatsJson(mapping)},
                     {"frame_total", StatsJson(total)}, {"mapper_per_keyframe", StatsJson(mapper_ms)},
                     {"local_ba_per_keyframe", StatsJson(ba_ms)}};
+  if (!filter_stages.empty()) {
+    nlohmann::json stages = nlohmann::json::object();
+    for (const auto& [stage, values] : filter_stages) stages[stage] = StatsJson(values);
+    j["timing_ms"]["filter_stages"] = stages;
+  }
   if (evaluation) {
     const EvalResult& e = *evaluation;
     j["ate"] = {{"rmse_m", e.ate.stats.rmse}, {"mean_m", e.ate.stats.mean}, {"median_m", e.ate.stats.median},

@@ -32,10 +32,10 @@ check_error() {  # name expected-substring suite-text [extra args]
 SYN='sequences:
   - {name: syn, synthetic: {preset: walking_xyz, frames: 10}}
 '
-check_error unknown_mode "unknown_mode.yaml:5: unknown mode 'fused' (modes of this dynorb build: plain" \
+check_error unknown_mode "unknown_mode.yaml:5: unknown mode 'mystery' (modes of this dynorb build: plain" \
   "${SYN}modes:
   - plain
-  - fused
+  - mystery
 "
 check_error missing_dataset "missing_dataset.yaml:2: dataset of sequence 'fr3' not found" \
   'sequences:
@@ -96,12 +96,12 @@ sequences:
   - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true}}
 modes:
   - plain
-  - {name: fused, optional: true}
+  - {name: mystery, optional: true}
 EOF
 OUT="$DIR/bench"
 run_bench() { "$DYNORB" bench --suite "$DIR/tiny.yaml" --out "$OUT" --people procedural --quiet "$@"; }
 run_bench >"$DIR/run1.txt" 2>"$DIR/run1.err" || fail "tiny run 1: $(cat "$DIR/run1.err")"
-grep -qF "mode 'fused' is not registered" "$DIR/run1.err" || fail "no warning for the optional mode"
+grep -qF "mode 'mystery' is not registered" "$DIR/run1.err" || fail "no warning for the optional mode"
 grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run1.txt" || fail "run 1 summary: $(cat "$DIR/run1.txt")"
 for f in results.json report.md report.html plots/syn__plain.png plots/syn__plain.svg plots/syn_twin__plain.png \
   plots/syn__plain_keypoints.png runs/syn/plain/seed1/stats.json runs/syn_twin/plain/seed1/trajectory.txt \

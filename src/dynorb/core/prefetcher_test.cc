@@ -11,7 +11,8 @@ namespace dynorb {
 namespace {
 
 TEST(Prefetcher, DeliversEveryItemInOrder) {
-  Prefetcher<std::string> p(50, [](size_t i) { return std::to_string(i * i); }, 3);
+  Prefetcher<std::string> p(
+      50, [](size_t i) { return std::to_string(i * i); }, 3);
   for (size_t i = 0; i < 50; ++i) EXPECT_EQ(p.Next(), std::to_string(i * i));
   EXPECT_THROW(p.Next(), std::out_of_range);
 }

@@ -358,4 +358,9 @@ cv::Mat FastFilter::DrawOverlay(const FilterInput& input, const std::vector<cv::
   return canvas;
 }
 
+std::vector<std::pair<std::string, double>> FastFilter::StageTimings() const {
+  return {{"flow", timing_.flow_ms},       {"ego_motion", timing_.ego_ms}, {"fundamental", timing_.fundamental_ms},
+          {"classify", timing_.cues_ms},   {"region", timing_.region_ms},  {"overlay", timing_.overlay_ms}};
+}
+
 }  // namespace dynorb

@@ -78,6 +78,7 @@ class FastFilter : public KeypointFilter {
   std::string name() const override { return "fast"; }
   FilterOutput Filter(const FilterInput& input) override;
 
+  std::vector<std::pair<std::string, double>> StageTimings() const override;
   const FastTiming& timing() const { return timing_; }              // last frame
   const FastTiming& total_timing() const { return total_timing_; }  // sum over frames
   int frames() const { return frames_; }

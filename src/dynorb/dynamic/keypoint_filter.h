@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -41,6 +42,9 @@ class KeypointFilter {
   virtual ~KeypointFilter() = default;
   virtual std::string name() const = 0;
   virtual FilterOutput Filter(const FilterInput& input) = 0;
+  // Milliseconds of each named stage of the last Filter() call (e.g. {"flow", 1.2}), for
+  // stats.json's timing_ms.filter_stages. Stages that did not run that frame report 0.
+  virtual std::vector<std::pair<std::string, double>> StageTimings() const { return {}; }
 };
 
 }  // namespace dynorb

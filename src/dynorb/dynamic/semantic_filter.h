@@ -56,6 +56,10 @@ class SemanticFilter : public KeypointFilter {
   SemanticFilter(std::unique_ptr<MaskProvider> provider, const SemanticOptions& options);
   std::string name() const override { return "semantic(" + provider_->name() + ")"; }
   FilterOutput Filter(const FilterInput& input) override;
+  // "detector" (the provider, on scheduled frames) and "propagation" (carrying masks between).
+  std::vector<std::pair<std::string, double>> StageTimings() const override {
+    return {{"detector", provider_ms_}, {"propagation", propagation_ms_}};
+  }
 
   // Per-stage timing of the last frame.
   double last_provider_ms() const { return provider_ms_; }

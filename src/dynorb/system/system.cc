@@ -83,6 +83,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
     if (out.keep.size() != keep.size()) throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
     record.timing.filter_ms = watch.ElapsedMs();
+    record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
     if (record_overlays_) record.filter_overlay = out.overlay;

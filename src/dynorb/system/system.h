@@ -41,6 +41,7 @@ struct FrameTiming {
   double detect_ms = 0.0, filter_ms = 0.0, describe_ms = 0.0, track_ms = 0.0, local_map_ms = 0.0;
   double mapping_ms = 0.0;  // Inline mapping (sequential mode) after this frame.
   double total_ms = 0.0;
+  std::vector<std::pair<std::string, double>> filter_stages_ms;  // KeypointFilter::StageTimings().
 };
 
 struct FrameRecord {

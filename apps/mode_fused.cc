@@ -1,0 +1,37 @@
+// `dynorb run --mode fused`: the semantic detector masks and the FAST geometric cues together
+// (src/dynorb/dynamic/combined_filter.h). Both YAML sections, `semantic:` and `fast:`, apply.
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "dynorb/dynamic/combined_filter.h"
+#include "mode_fast.h"
+#include "mode_semantic.h"
+
+namespace dynorb {
+namespace {
+
+class FusedModeFactory : public RunModeFactory {
+ public:
+  void BindConfig(ConfigSchema* schema) override {
+    semantic_.BindConfig(schema);
+    fast_.BindConfig(schema);
+  }
+  std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override {
+    std::vector<CombinedFilter::Part> parts;
+    parts.push_back({"semantic", semantic_.Create(context)});
+    parts.push_back({"fast", fast_.Create(context)});
+    return std::make_unique<CombinedFilter>(std::move(parts));
+  }
+
+ private:
+  SemanticModeFactory semantic_;
+  FastModeFactory fast_;
+};
+
+const bool kRegistered = RegisterRunMode(
+    "fused", "semantic detector masks and FAST geometric cues together (a keypoint must pass both)",
+    [] { return std::make_unique<FusedModeFactory>(); });
+
+}  // namespace
+}  // namespace dynorb

@@ -1,0 +1,68 @@
+#include "dynorb/dynamic/combined_filter.h"
+
+#include <opencv2/core.hpp>
+#include <stdexcept>
+
+#include "dynorb/core/timer.h"
+
+namespace dynorb {
+
+CombinedFilter::CombinedFilter(std::vector<Part> parts)
+    : parts_(std::move(parts)), part_ms_(parts_.size(), 0.0) {
+  if (parts_.empty()) throw std::invalid_argument("CombinedFilter needs at least one filter");
+  for (const Part& p : parts_) {
+    if (!p.filter)
+      throw std::invalid_argument("CombinedFilter: part '" + p.label + "' has no filter");
+  }
+}
+
+std::string CombinedFilter::name() const {
+  std::string n = "fused(";
+  for (size_t i = 0; i < parts_.size(); ++i) n += (i ? " + " : "") + parts_[i].filter->name();
+  return n + ")";
+}
+
+FilterOutput CombinedFilter::Filter(const FilterInput& input) {
+  const size_t n = input.keypoints ? input.keypoints->keypoints.size() : 0;
+  FilterOutput out;
+  out.keep.assign(n, true);
+  for (size_t p = 0; p < parts_.size(); ++p) {
+    Stopwatch watch;
+    FilterOutput part = parts_[p].filter->Filter(input);
+    part_ms_[p] = watch.ElapsedMs();
+    if (part.keep.size() != n)
+      throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");
+    for (size_t i = 0; i < n; ++i) out.keep[i] = out.keep[i] && part.keep[i];
+    if (!part.dynamic_mask.empty()) {
+      if (out.dynamic_mask.empty()) {
+        out.dynamic_mask = part.dynamic_mask.clone();
+      } else {
+        cv::bitwise_or(out.dynamic_mask, part.dynamic_mask, out.dynamic_mask);
+      }
+    }
+    if (!part.overlay.empty() && input.bgr != nullptr) {
+      if (out.overlay.empty()) {
+        out.overlay = part.overlay.clone();
+      } else {
+        // Pixels this part drew (where its drawing differs from the frame) go over the others'.
+        cv::Mat diff, drawn;
+        cv::absdiff(part.overlay, *input.bgr, diff);
+        cv::transform(diff, drawn, cv::Matx13f(1.f, 1.f, 1.f));
+        part.overlay.copyTo(out.overlay, drawn > 0);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, double>> CombinedFilter::StageTimings() const {
+  std::vector<std::pair<std::string, double>> stages;
+  for (size_t p = 0; p < parts_.size(); ++p) {
+    stages.emplace_back(parts_[p].label, part_ms_[p]);
+    for (const auto& [stage, ms] : parts_[p].filter->StageTimings())
+      stages.emplace_back(parts_[p].label + "." + stage, ms);
+  }
+  return stages;
+}
+
+}  // namespace dynorb

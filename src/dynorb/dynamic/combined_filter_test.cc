@@ -1,0 +1,88 @@
+#include "dynorb/dynamic/combined_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace dynorb {
+namespace {
+
+// Rejects keypoints whose x lies in [x0, x1); draws a filled square at (x0, 0) on its overlay.
+class BandFilter : public KeypointFilter {
+ public:
+  BandFilter(float x0, float x1, double ms) : x0_(x0), x1_(x1), ms_(ms) {}
+  std::string name() const override { return "band"; }
+  FilterOutput Filter(const FilterInput& input) override {
+    ++calls;
+    FilterOutput out;
+    for (const cv::KeyPoint& k : input.keypoints->keypoints)
+      out.keep.push_back(!(k.pt.x >= x0_ && k.pt.x < x1_));
+    out.dynamic_mask = cv::Mat::zeros(input.gray->size(), CV_8U);
+    out.dynamic_mask.colRange(static_cast<int>(x0_), static_cast<int>(x1_)).setTo(255);
+    if (input.want_overlay) {
+      out.overlay = input.bgr->clone();
+      cv::rectangle(out.overlay, cv::Rect(static_cast<int>(x0_), 0, 4, 4), cv::Scalar(0, 0, 255),
+                    cv::FILLED);
+    }
+    return out;
+  }
+  std::vector<std::pair<std::string, double>> StageTimings() const override {
+    return {{"work", ms_}};
+  }
+  int calls = 0;
+
+ private:
+  float x0_, x1_;
+  double ms_;
+};
+
+struct Frame {
+  cv::Mat bgr = cv::Mat(20, 40, CV_8UC3, cv::Scalar(50, 60, 70));
+  cv::Mat gray = cv::Mat(20, 40, CV_8UC1, cv::Scalar(60));
+  KeypointSet keypoints;
+  FilterInput Input(bool overlay) {
+    for (float x : {2.f, 12.f, 22.f, 32.f})
+      keypoints.keypoints.emplace_back(cv::Point2f(x, 5.f), 7.f);
+    FilterInput in;
+    in.bgr = &bgr;
+    in.gray = &gray;
+    in.keypoints = &keypoints;
+    in.want_overlay = overlay;
+    return in;
+  }
+};
+
+TEST(CombinedFilter, KeepsOnlyWhatEveryPartKeepsAndOrsTheMasks) {
+  std::vector<CombinedFilter::Part> parts;
+  parts.push_back({"semantic", std::make_unique<BandFilter>(10.f, 20.f, 3.0)});
+  parts.push_back({"fast", std::make_unique<BandFilter>(30.f, 40.f, 1.5)});
+  CombinedFilter combined(std::move(parts));
+  Frame frame;
+  const FilterOutput out = combined.Filter(frame.Input(true));
+  EXPECT_EQ(out.keep, (std::vector<bool>{true, false, true, false}));
+  EXPECT_EQ(cv::countNonZero(out.dynamic_mask), 20 * 20);
+  // Both drawings survive in the composed overlay; untouched pixels are the frame's.
+  EXPECT_EQ(out.overlay.at<cv::Vec3b>(1, 11), cv::Vec3b(0, 0, 255));
+  EXPECT_EQ(out.overlay.at<cv::Vec3b>(1, 31), cv::Vec3b(0, 0, 255));
+  EXPECT_EQ(out.overlay.at<cv::Vec3b>(10, 5), cv::Vec3b(50, 60, 70));
+
+  const auto stages = combined.StageTimings();
+  ASSERT_EQ(stages.size(), 4u);
+  EXPECT_EQ(stages[0].first, "semantic");
+  EXPECT_EQ(stages[1], (std::pair<std::string, double>{"semantic.work", 3.0}));
+  EXPECT_EQ(stages[2].first, "fast");
+  EXPECT_EQ(stages[3], (std::pair<std::string, double>{"fast.work", 1.5}));
+  EXPECT_NE(combined.name().find("band + band"), std::string::npos);
+}
+
+TEST(CombinedFilter, NoOverlayUnlessAskedAndEmptyPartsRejected) {
+  std::vector<CombinedFilter::Part> parts;
+  parts.push_back({"a", std::make_unique<BandFilter>(0.f, 5.f, 0.0)});
+  CombinedFilter combined(std::move(parts));
+  Frame frame;
+  EXPECT_TRUE(combined.Filter(frame.Input(false)).overlay.empty());
+  EXPECT_THROW(CombinedFilter(std::vector<CombinedFilter::Part>{}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dynorb
