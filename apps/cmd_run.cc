@@ -20,7 +20,7 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->add_option("--out", cli->out, "Output folder (created if needed)")->required();
   cmd->add_option("--mode", cli->mode, "Dynamic-object handling: " + RunModeHelp())
       ->check(CLI::IsMember(RunModeNames()));
-  cmd->add_option("--models", cli->models, "Detector model folder (semantic modes; default ../shared/models when present)");
+  cmd->add_option("--models", cli->models, "Detector model folder (semantic/fused; default $DYNORB_MODELS, else ../shared/models or the checkout's ../shared/models when present, else models/)");
   cmd->add_option("--save-overlays", cli->overlays,
                   "Write one image per frame: kept keypoints green, removed (dynamic) ones red, plus the mode's evidence");
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")

@@ -27,6 +27,8 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("classes", &o.classes, "a-priori dynamic COCO classes")
       .Add("detect_every", &o.detect_every,
            "run the detector on every Nth frame, carry masks by flow between")
+      .Add("detector_latency", &o.detector_latency,
+           "0: detect inline; L>0: detect on a worker, use the result L frames later (L < detect_every)")
       .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
       .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
       .Add("refine_with_depth", &o.refine.enabled,
@@ -56,6 +58,7 @@ std::unique_ptr<KeypointFilter> SemanticModeFactory::Create(const RunModeContext
     provider = std::make_unique<DetectorMaskProvider>(options);
   } else {
     options.detect_every = 1;  // files give every frame
+    options.detector_latency = 0;
     std::string list = list_;
     if (source_ == "oracle") list = (std::filesystem::path(context.dataset) / "masks.txt").string();
     if (list.empty()) throw InputError("semantic.source " + source_ + " needs semantic.list");

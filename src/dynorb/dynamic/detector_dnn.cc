@@ -1,5 +1,6 @@
 #include "dynorb/dynamic/detector_dnn.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -122,7 +123,11 @@ const ModelSpec& FindModelSpec(const std::string& name) {
 
 std::string ResolveModelsDir(const std::string& flag) {
   if (!flag.empty()) return flag;
+  if (const char* env = std::getenv("DYNORB_MODELS"); env != nullptr && *env != '\0') return env;
   if (fs::is_directory("../shared/models")) return "../shared/models";
+#ifdef DYNORB_CHECKOUT_SHARED_MODELS
+  if (fs::is_directory(DYNORB_CHECKOUT_SHARED_MODELS)) return DYNORB_CHECKOUT_SHARED_MODELS;
+#endif
   return "models";
 }
 

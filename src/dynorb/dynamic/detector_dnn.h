@@ -34,7 +34,9 @@ struct ModelSpec {
 const std::vector<ModelSpec>& SupportedModels();
 // Throws InputError listing the supported names.
 const ModelSpec& FindModelSpec(const std::string& name);
-// --models resolution: `flag` if given, else ../shared/models when it exists, else models/.
+// --models resolution: `flag` if given, else $DYNORB_MODELS, else ../shared/models (relative to
+// the working directory) when it exists, else the shared/models beside this source checkout when
+// it exists, else models/.
 std::string ResolveModelsDir(const std::string& flag);
 // The 80 COCO class names in the order of the models' outputs.
 const std::vector<std::string>& CocoClassNames();

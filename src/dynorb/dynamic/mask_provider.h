@@ -1,7 +1,8 @@
 // MaskProvider: one interface for every source of a-priori dynamic-object masks used by the
 // semantic mode: the DNN detectors (semantic_detector_provider.h), masks or boxes read from disk
 // and the synthetic ground truth as an oracle (mask_file.h).
-// A provider is called from one thread, once per frame it is asked about, in frame order.
+// A provider is called from one thread at a time (the tracking thread, or the semantic filter's
+// detection worker), once per frame it is asked about, in frame order.
 #pragma once
 
 #include <string>

@@ -49,6 +49,9 @@ void SemanticOptions::Validate() const {
   detector.Validate();
   refine.Validate();
   if (detect_every < 1) throw InputError("semantic.detect_every must be >= 1");
+  if (detector_latency < 0 || detector_latency >= detect_every) {
+    throw InputError("semantic.detector_latency must be >= 0 and < detect_every (one detection in flight)");
+  }
   if (max_carried_frames < 0) throw InputError("semantic.max_carried_frames must be >= 0");
   if (classes.empty()) throw InputError("semantic.classes is empty (no a-priori dynamic class)");
   ResolveDynamicClasses(classes, CocoClassNames());
@@ -79,11 +82,12 @@ SemanticFilter::SemanticFilter(std::unique_ptr<MaskProvider> provider, const Sem
   CV_Assert(provider_ != nullptr);
 }
 
-DynamicObjects SemanticFilter::Carry(const cv::Mat& gray, const cv::Mat& depth_m) {
+DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& from_gray, const cv::Mat& gray,
+                                     const cv::Mat& depth_m) const {
   DynamicObjects carried;
   carried.mask = cv::Mat::zeros(gray.size(), CV_8U);
-  if (previous_gray_.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
-  for (const DynamicObject& object : current_.objects) {
+  if (from_gray.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
+  for (const DynamicObject& object : from.objects) {
     // Sample up to 8x8 points inside the object's mask and box.
     const cv::Rect box = cv::Rect(object.detection.box) & cv::Rect(0, 0, gray.cols, gray.rows);
     if (box.empty()) continue;
@@ -91,14 +95,14 @@ DynamicObjects SemanticFilter::Carry(const cv::Mat& gray, const cv::Mat& depth_m
     for (int iy = 0; iy < 8; ++iy) {
       for (int ix = 0; ix < 8; ++ix) {
         const cv::Point p(box.x + (2 * ix + 1) * box.width / 16, box.y + (2 * iy + 1) * box.height / 16);
-        if (current_.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
+        if (from.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
       }
     }
     float dx = 0.f, dy = 0.f;
     if (points.size() >= 4) {
       std::vector<uint8_t> status;
       std::vector<float> error;
-      cv::calcOpticalFlowPyrLK(previous_gray_, gray, points, moved, status, error, cv::Size(21, 21), 3);
+      cv::calcOpticalFlowPyrLK(from_gray, gray, points, moved, status, error, cv::Size(21, 21), 3);
       std::vector<float> xs, ys;
       for (size_t i = 0; i < points.size(); ++i) {
         if (!status[i]) continue;
@@ -128,17 +132,50 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   const cv::Mat no_depth;
   const cv::Mat& depth = input.depth_m ? *input.depth_m : no_depth;
   Stopwatch watch;
-  last_was_detection_ = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
-  provider_ms_ = propagation_ms_ = 0.0;
-  if (last_was_detection_) {
-    MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
-    current_ = provider_->Masks(query);
-    frames_since_detection_ = 0;
-    provider_ms_ = watch.ElapsedMs();
+  const bool scheduled = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
+  provider_ms_ = propagation_ms_ = wait_ms_ = 0.0;
+  last_was_detection_ = false;
+  if (options_.detector_latency == 0) {
+    if (scheduled) {
+      MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
+      current_ = provider_->Masks(query);
+      frames_since_detection_ = 0;
+      provider_ms_ = watch.ElapsedMs();
+      last_was_detection_ = true;
+    } else {
+      ++frames_since_detection_;
+      current_ = Carry(current_, previous_gray_, *input.gray, depth);
+      propagation_ms_ = watch.ElapsedMs();
+    }
   } else {
+    // Pipelined: the detection of frame k runs on a worker while frames k+1.. are tracked and is
+    // used at frame k + latency (waiting for it if needed: the schedule never depends on timing),
+    // carried by flow from frame k to the current one.
     ++frames_since_detection_;
-    current_ = Carry(*input.gray, depth);
-    propagation_ms_ = watch.ElapsedMs();
+    current_ = Carry(current_, previous_gray_, *input.gray, depth);
+    if (pending_.valid() && input.frame_id >= pending_frame_ + static_cast<FrameId>(options_.detector_latency)) {
+      Stopwatch wait;
+      DynamicObjects detected = pending_.get();
+      wait_ms_ = wait.ElapsedMs();
+      provider_ms_ = pending_provider_ms_;
+      frames_since_detection_ = static_cast<int>(input.frame_id - pending_frame_);
+      current_ = Carry(detected, pending_gray_, *input.gray, depth);
+      last_was_detection_ = true;
+    }
+    propagation_ms_ = watch.ElapsedMs() - wait_ms_;
+    if (scheduled) {
+      pending_frame_ = input.frame_id;
+      input.gray->copyTo(pending_gray_);
+      pending_ = std::async(std::launch::async, [this, id = input.frame_id, ts = input.timestamp_s,
+                                                 bgr = input.bgr->clone(),
+                                                 depth_copy = depth.clone()]() {
+        Stopwatch detect;
+        MaskQuery query{id, ts, &bgr, depth_copy.empty() ? nullptr : &depth_copy};
+        DynamicObjects result = provider_->Masks(query);
+        pending_provider_ms_ = detect.ElapsedMs();
+        return result;
+      });
+    }
   }
   input.gray->copyTo(previous_gray_);
 

@@ -7,8 +7,12 @@
 // points sampled in its mask (as NGD-SLAM carries masks between detections), then re-refined
 // with the current depth around the object's carried depth. Objects older than
 // max_carried_frames are dropped. Called from the tracking thread only.
+// With detector_latency L > 0 the provider runs on a worker thread: the detection of frame k is
+// started at frame k and used at frame k + L (carried by flow from frame k), so the detector
+// overlaps tracking on a second core while the schedule stays deterministic.
 #pragma once
 
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +36,8 @@ struct SemanticOptions {
   DetectorOptions detector;                               // model, models_dir, thresholds
   std::vector<std::string> classes = DefaultDynamicClasses();  // a-priori dynamic classes
   int detect_every = 1;         // run the provider on every Nth frame (>= 1), carry masks between
+  int detector_latency = 0;     // 0: detect inline; L > 0: detect on a worker thread, use the
+                                // result L frames later (carried by flow), L < detect_every
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
   DepthRefineOptions refine;    // box -> mask with depth
   void Validate() const;
@@ -58,7 +64,7 @@ class SemanticFilter : public KeypointFilter {
   FilterOutput Filter(const FilterInput& input) override;
   // "detector" (the provider, on scheduled frames) and "propagation" (carrying masks between).
   std::vector<std::pair<std::string, double>> StageTimings() const override {
-    return {{"detector", provider_ms_}, {"propagation", propagation_ms_}};
+    return {{"detector", provider_ms_}, {"detector_wait", wait_ms_}, {"propagation", propagation_ms_}};
   }
 
   // Per-stage timing of the last frame.
@@ -68,15 +74,23 @@ class SemanticFilter : public KeypointFilter {
   const DynamicObjects& current() const { return current_; }
 
  private:
-  DynamicObjects Carry(const cv::Mat& gray, const cv::Mat& depth_m);
+  // `from` (the objects on `from_gray`) moved to `gray` by the median LK flow of each object.
+  DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_gray, const cv::Mat& gray,
+                       const cv::Mat& depth_m) const;
 
   std::unique_ptr<MaskProvider> provider_;
   SemanticOptions options_;
   DynamicObjects current_;
   cv::Mat previous_gray_;
   int frames_since_detection_ = 0;
-  double provider_ms_ = 0.0, propagation_ms_ = 0.0;
+  double provider_ms_ = 0.0, propagation_ms_ = 0.0, wait_ms_ = 0.0;
   bool last_was_detection_ = false;
+  // Pipelined detection (detector_latency > 0): at most one in flight. Declared after provider_
+  // so that it is destroyed (waiting for the worker) before the provider.
+  std::future<DynamicObjects> pending_;
+  FrameId pending_frame_ = 0;
+  cv::Mat pending_gray_;
+  double pending_provider_ms_ = 0.0;  // Written by the worker before its result is ready.
 };
 
 }  // namespace dynorb

@@ -2,6 +2,7 @@
 // refinement, the deterministic schedule and mask carrying, FileMaskProvider, bad input.
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -101,6 +102,7 @@ class SquareProvider : public MaskProvider {
   std::string name() const override { return "square"; }
   DynamicObjects Masks(const MaskQuery& query) override {
     calls.push_back(query.frame_id);
+    if (log) log->push_back(query.frame_id);
     DynamicObjects out;
     out.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
     Detection d;
@@ -111,6 +113,7 @@ class SquareProvider : public MaskProvider {
     return out;
   }
   std::vector<FrameId> calls;
+  std::shared_ptr<std::vector<FrameId>> log;  // Outlives the provider (owned by the filter).
   int x0 = 30, speed = 3;
   DepthRefineOptions refine;
 };
@@ -161,6 +164,70 @@ TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
     EXPECT_FALSE(out.keep[2]);  // near its moving right edge
   }
   EXPECT_EQ(raw->calls, (std::vector<FrameId>{0, 4, 8}));
+}
+
+// Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
+// k + latency; the calls and results do not depend on thread timing.
+std::vector<std::vector<bool>> RunPipelined(int latency, std::vector<FrameId>* calls, std::vector<bool>* arrived) {
+  auto provider = std::make_unique<SquareProvider>();
+  provider->refine.dilation_px = 0;
+  auto log = std::make_shared<std::vector<FrameId>>();
+  provider->log = log;
+  SemanticOptions options;
+  options.detect_every = 3;
+  options.detector_latency = latency;
+  options.refine.dilation_px = 0;
+  std::vector<std::vector<bool>> keeps;
+  {
+    SemanticFilter filter(std::move(provider), options);
+    for (int frame = 0; frame < 10; ++frame) {
+      cv::Mat bgr, gray, depth;
+      MakeFrame(frame, &bgr, &gray, &depth);
+      KeypointSet set;
+      const int x = 30 + 3 * frame;
+      set.keypoints = {cv::KeyPoint(x + 20.f, 60.f, 7.f), cv::KeyPoint(x - 12.f, 60.f, 7.f),
+                       cv::KeyPoint(x + 38.f, 45.f, 7.f)};
+      FilterInput input;
+      input.frame_id = frame;
+      input.bgr = &bgr;
+      input.gray = &gray;
+      input.depth_m = &depth;
+      input.keypoints = &set;
+      keeps.push_back(filter.Filter(input).keep);
+      arrived->push_back(filter.last_was_detection());
+    }
+  }  // Destroying the filter waits for its worker: the log is complete and no longer shared.
+  *calls = *log;
+  return keeps;
+}
+
+TEST(SemanticFilter, PipelinedDetectionIsUsedLatencyFramesLaterAndCarried) {
+  std::vector<FrameId> calls;
+  std::vector<bool> arrived;
+  const auto keeps = RunPipelined(2, &calls, &arrived);
+  EXPECT_EQ(calls, (std::vector<FrameId>{0, 3, 6, 9}));
+  EXPECT_EQ(arrived, (std::vector<bool>{false, false, true, false, false, true, false, false, true, false}));
+  // Nothing is masked before the first detection arrives (frames 0, 1) ...
+  EXPECT_EQ(keeps[0], (std::vector<bool>{true, true, true}));
+  EXPECT_EQ(keeps[1], (std::vector<bool>{true, true, true}));
+  // ... afterwards the square is masked on every frame (detected 2 frames ago, carried by flow).
+  for (int frame = 2; frame < 10; ++frame) {
+    SCOPED_TRACE(frame);
+    EXPECT_FALSE(keeps[frame][0]);
+    EXPECT_TRUE(keeps[frame][1]);
+  }
+  // Same input, same output, whatever the worker's timing.
+  std::vector<FrameId> calls2;
+  std::vector<bool> arrived2;
+  EXPECT_EQ(RunPipelined(2, &calls2, &arrived2), keeps);
+  EXPECT_THROW(
+      {
+        SemanticOptions bad;
+        bad.detect_every = 2;
+        bad.detector_latency = 2;
+        bad.Validate();
+      },
+      InputError);
 }
 
 TEST(FileMaskProvider, BoxesAndMasksLists) {
