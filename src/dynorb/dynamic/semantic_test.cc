@@ -135,6 +135,24 @@ void MakeFrame(int frame, cv::Mat* bgr, cv::Mat* gray, cv::Mat* depth) {
   cv::cvtColor(background, *bgr, cv::COLOR_GRAY2BGR);
 }
 
+// Runs `filter` on frame `frame` of MakeFrame with three keypoints: the square's centre, the
+// background left of it, and near its right edge.
+FilterOutput FilterSquareFrame(SemanticFilter* filter, int frame) {
+  cv::Mat bgr, gray, depth;
+  MakeFrame(frame, &bgr, &gray, &depth);
+  KeypointSet set;
+  const int x = 30 + 3 * frame;
+  set.keypoints = {cv::KeyPoint(x + 20.f, 60.f, 7.f), cv::KeyPoint(x - 12.f, 60.f, 7.f),
+                   cv::KeyPoint(x + 38.f, 45.f, 7.f)};
+  FilterInput input;
+  input.frame_id = frame;
+  input.bgr = &bgr;
+  input.gray = &gray;
+  input.depth_m = &depth;
+  input.keypoints = &set;
+  return filter->Filter(input);
+}
+
 TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
   auto provider = std::make_unique<SquareProvider>();
   provider->refine.dilation_px = 0;
@@ -144,19 +162,7 @@ TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
   options.refine.dilation_px = 0;
   SemanticFilter filter(std::move(provider), options);
   for (int frame = 0; frame < 10; ++frame) {
-    cv::Mat bgr, gray, depth;
-    MakeFrame(frame, &bgr, &gray, &depth);
-    KeypointSet set;
-    const int x = 30 + 3 * frame;
-    set.keypoints = {cv::KeyPoint(x + 20.f, 60.f, 7.f), cv::KeyPoint(x - 12.f, 60.f, 7.f),
-                     cv::KeyPoint(x + 38.f, 45.f, 7.f)};
-    FilterInput input;
-    input.frame_id = frame;
-    input.bgr = &bgr;
-    input.gray = &gray;
-    input.depth_m = &depth;
-    input.keypoints = &set;
-    const FilterOutput out = filter.Filter(input);
+    const FilterOutput out = FilterSquareFrame(&filter, frame);
     SCOPED_TRACE(frame);
     EXPECT_EQ(filter.last_was_detection(), frame % 4 == 0);
     EXPECT_FALSE(out.keep[0]);  // centre of the moving square, also between detections
@@ -181,19 +187,7 @@ std::vector<std::vector<bool>> RunPipelined(int latency, std::vector<FrameId>* c
   {
     SemanticFilter filter(std::move(provider), options);
     for (int frame = 0; frame < 10; ++frame) {
-      cv::Mat bgr, gray, depth;
-      MakeFrame(frame, &bgr, &gray, &depth);
-      KeypointSet set;
-      const int x = 30 + 3 * frame;
-      set.keypoints = {cv::KeyPoint(x + 20.f, 60.f, 7.f), cv::KeyPoint(x - 12.f, 60.f, 7.f),
-                       cv::KeyPoint(x + 38.f, 45.f, 7.f)};
-      FilterInput input;
-      input.frame_id = frame;
-      input.bgr = &bgr;
-      input.gray = &gray;
-      input.depth_m = &depth;
-      input.keypoints = &set;
-      keeps.push_back(filter.Filter(input).keep);
+      keeps.push_back(FilterSquareFrame(&filter, frame).keep);
       arrived->push_back(filter.last_was_detection());
     }
   }  // Destroying the filter waits for its worker: the log is complete and no longer shared.

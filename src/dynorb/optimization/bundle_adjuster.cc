@@ -9,6 +9,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/optimization/pose_block.h"
+#include "dynorb/optimization/robust_problem.h"
 
 namespace dynorb {
 
@@ -51,14 +52,8 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
   // One problem for both stages (building it costs as much as an LM iteration): the Huber
   // kernels sit behind wrappers that are switched to plain L2 for the second stage, and the
   // first stage's outliers are removed from the problem instead of rebuilding it.
-  ceres::LossFunctionWrapper loss_mono(new ceres::HuberLoss(std::sqrt(options.chi2_mono)), ceres::TAKE_OWNERSHIP);
-  ceres::LossFunctionWrapper loss_stereo(new ceres::HuberLoss(std::sqrt(options.chi2_stereo)),
-                                         ceres::TAKE_OWNERSHIP);
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.enable_fast_removal = true;
-  ceres::Problem problem(problem_options);
+  StagedLosses losses(options.chi2_mono, options.chi2_stereo);
+  ceres::Problem problem(StagedProblemOptions());
   std::vector<ceres::ResidualBlockId> blocks(observations.size(), nullptr);
   for (size_t i = 0; i < observations.size(); ++i) {
     const BaObservation& obs = observations[i];
@@ -68,16 +63,15 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
       problem.AddParameterBlock(pose, kPoseBlockSize, NewPoseManifold());
       if (keyframes[obs.keyframe_index].fixed) problem.SetParameterBlockConstant(pose);
     }
-    ceres::LossFunction* loss = obs.keypoint.IsStereo() ? &loss_stereo : &loss_mono;
-    blocks[i] = problem.AddResidualBlock(NewReprojectionCost(camera, bf, obs.keypoint), loss, pose, point);
+    blocks[i] = problem.AddResidualBlock(NewReprojectionCost(camera, bf, obs.keypoint),
+                                         losses.For(obs.keypoint.IsStereo()), pose, point);
   }
 
   for (int stage = 0; stage < 2 && !observations.empty(); ++stage) {
     const int iterations = stage == 0 ? options.first_iterations : options.second_iterations;
     if (iterations == 0) break;
     if (stage == 1) {
-      loss_mono.Reset(nullptr, ceres::TAKE_OWNERSHIP);
-      loss_stereo.Reset(nullptr, ceres::TAKE_OWNERSHIP);
+      losses.SwitchToL2();
       for (size_t i = 0; i < observations.size(); ++i) {
         if (result.observation_inlier[i] || blocks[i] == nullptr) continue;
         problem.RemoveResidualBlock(blocks[i]);

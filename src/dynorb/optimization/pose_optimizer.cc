@@ -10,6 +10,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/optimization/pose_block.h"
+#include "dynorb/optimization/robust_problem.h"
 
 namespace dynorb {
 
@@ -31,14 +32,8 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   PoseBlock pose = ToPoseBlock(initial_cam_from_world);
   // One problem for all rounds: Huber kernels behind wrappers (switched to L2 after the robust
   // rounds); each round removes the blocks of new outliers and re-adds returning inliers.
-  ceres::LossFunctionWrapper loss_mono(new ceres::HuberLoss(std::sqrt(options.chi2_mono)), ceres::TAKE_OWNERSHIP);
-  ceres::LossFunctionWrapper loss_stereo(new ceres::HuberLoss(std::sqrt(options.chi2_stereo)),
-                                         ceres::TAKE_OWNERSHIP);
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.enable_fast_removal = true;
-  ceres::Problem problem(problem_options);
+  StagedLosses losses(options.chi2_mono, options.chi2_stereo);
+  ceres::Problem problem(StagedProblemOptions());
   problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
   std::vector<ceres::ResidualBlockId> blocks(observations.size(), nullptr);
   ceres::Solver::Options solver_options;
@@ -50,8 +45,7 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
 
   for (int round = 0; round < options.num_rounds; ++round) {
     if (round == options.robust_rounds) {
-      loss_mono.Reset(nullptr, ceres::TAKE_OWNERSHIP);
-      loss_stereo.Reset(nullptr, ceres::TAKE_OWNERSHIP);
+      losses.SwitchToL2();
     }
     for (size_t i = 0; i < observations.size(); ++i) {
       if (result.inlier[i] == (blocks[i] != nullptr)) continue;
@@ -61,9 +55,8 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
         continue;
       }
       const PoseObservation& obs = observations[i];
-      ceres::LossFunction* loss = obs.keypoint.IsStereo() ? &loss_stereo : &loss_mono;
-      blocks[i] = problem.AddResidualBlock(
-          NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world), loss, pose.data());
+      blocks[i] = problem.AddResidualBlock(NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world),
+                                           losses.For(obs.keypoint.IsStereo()), pose.data());
     }
     if (problem.NumResidualBlocks() < 3) break;
     ceres::Solver::Summary summary;

@@ -11,7 +11,7 @@
 namespace dynorb {
 
 void TrackerOptions::Validate() const {
-  if (min_init_points < 10 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
+  if (min_init_points < 10 || min_init_depth_points < 3 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
       min_local_map_inliers < 3 || max_local_keyframes < 1 || max_frames_between_keyframes < 1 ||
       reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
       close_tracked_max < 0 || close_untracked_min < 0) {
@@ -99,7 +99,10 @@ bool Tracker::Initialize(Frame* frame) {
   const FrameFeatures& f = *frame->features;
   int with_depth = 0;
   for (int i = 0; i < f.size(); ++i) with_depth += f.HasDepth(i) ? 1 : 0;
-  if (with_depth < options_.min_init_points) return false;
+  // As ORB-SLAM2 (N > 500 keypoints, every one with depth becomes a landmark). Counting only
+  // depth-bearing keypoints delayed initialisation by 53 frames when a dynamic filter had removed
+  // a close person's keypoints and the far wall was beyond the depth range.
+  if (f.size() < options_.min_init_points || with_depth < options_.min_init_depth_points) return false;
   frame->cam_from_world = Rigid3d::Identity();
   CreateKeyframe(frame, /*all_depth_points=*/true);
   return true;

@@ -1,6 +1,6 @@
 // Tracker: estimates the pose of each RGB-D frame against the map (ORB-SLAM2's Tracking).
 //
-// State machine: kNotInitialized -> (first frame with >= min_init_points depth keypoints:
+// State machine: kNotInitialized -> (first frame with >= min_init_points keypoints, enough with depth:
 // first keyframe, world = that camera) -> kOk <-> kLost. In kOk: constant-velocity motion model
 // (projection search from the last frame), falling back to brute-force matching against the
 // reference keyframe; then the local map is projected and the pose refined (pose-only BA with

@@ -9,7 +9,8 @@
 namespace dynorb {
 
 struct TrackerOptions {
-  int min_init_points = 500;               // Keypoints with depth needed to initialise.
+  int min_init_points = 500;               // Keypoints needed to initialise (ORB-SLAM2: N > 500) ...
+  int min_init_depth_points = 100;         // ... of which this many with depth (they seed the map).
   double motion_radius_px = 7.0;           // Search radius (level 0) for motion-model tracking.
   double local_map_radius_factor = 3.0;    // Radius factor for local-map search.
   double relocalized_radius_factor = 5.0;  // Same, for the two frames after a relocalisation.
