@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -129,21 +130,31 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
   }
   KeypointSet set;
   auto pyramid = std::make_shared<ImagePyramid>(image, levels_);
-  for (int l = 0; l < pyramid->NumLevels(); ++l) {
-    if (!pyramid->LevelUsable(l)) continue;
-    const cv::Mat& level = pyramid->Level(l);
-    std::vector<cv::KeyPoint> level_kps = DetectOnLevel(level, features_per_level_[l]);
-    const float size = static_cast<float>(kPatchSize * levels_.scale[l]);
-    for (cv::KeyPoint& kp : level_kps) {
-      const cv::Point pixel(static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y));
-      kp.angle = IntensityCentroidAngleDeg(level, pixel);
-      kp.pt = pyramid->LevelToFull(l, kp.pt);
-      kp.octave = l;
-      kp.size = size;
-      kp.class_id = -1;
-      set.keypoints.push_back(kp);
-      set.level_pixels.push_back(pixel);
+  // Levels are independent: detect them on OpenCV's worker threads, then concatenate in level
+  // order, so the result is the same whatever the thread count.
+  const int num_levels = pyramid->NumLevels();
+  std::vector<std::vector<cv::KeyPoint>> per_level(num_levels);
+  std::vector<std::vector<cv::Point>> pixels(num_levels);
+  cv::parallel_for_(cv::Range(0, num_levels), [&](const cv::Range& range) {
+    for (int l = range.start; l < range.end; ++l) {
+      if (!pyramid->LevelUsable(l)) continue;
+      const cv::Mat& level = pyramid->Level(l);
+      per_level[l] = DetectOnLevel(level, features_per_level_[l]);
+      const float size = static_cast<float>(kPatchSize * levels_.scale[l]);
+      for (cv::KeyPoint& kp : per_level[l]) {
+        const cv::Point pixel(static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y));
+        kp.angle = IntensityCentroidAngleDeg(level, pixel);
+        kp.pt = pyramid->LevelToFull(l, kp.pt);
+        kp.octave = l;
+        kp.size = size;
+        kp.class_id = -1;
+        pixels[l].push_back(pixel);
+      }
     }
+  });
+  for (int l = 0; l < num_levels; ++l) {
+    set.keypoints.insert(set.keypoints.end(), per_level[l].begin(), per_level[l].end());
+    set.level_pixels.insert(set.level_pixels.end(), pixels[l].begin(), pixels[l].end());
   }
   set.pyramid = std::move(pyramid);
   return set;
@@ -155,19 +166,29 @@ cv::Mat OrbExtractor::Describe(const KeypointSet& set, const std::vector<int>& i
   DYNORB_FEATURES_CHECK(set.pyramid != nullptr);
   DYNORB_FEATURES_CHECK(set.level_pixels.size() == set.keypoints.size());
   const ImagePyramid& pyramid = *set.pyramid;
-  std::vector<cv::Mat> blurred(pyramid.NumLevels());
-  for (size_t i = 0; i < indices.size(); ++i) {
-    const int k = indices[i];
+  std::vector<bool> level_used(pyramid.NumLevels(), false);
+  for (const int k : indices) {
     DYNORB_FEATURES_CHECK(k >= 0 && k < set.size());
     const int l = set.keypoints[k].octave;
     DYNORB_FEATURES_CHECK(l >= 0 && l < pyramid.NumLevels() && pyramid.LevelUsable(l));
-    if (blurred[l].empty()) {
-      cv::GaussianBlur(pyramid.Level(l), blurred[l], cv::Size(7, 7), 2.0, 2.0,
-                       cv::BORDER_REFLECT_101);
-    }
-    ComputeSteeredBrief(blurred[l], set.level_pixels[k], set.keypoints[k].angle,
-                        descriptors.ptr<uint8_t>(static_cast<int>(i)));
+    level_used[l] = true;
   }
+  // Blur the used levels, then describe; both in parallel, each output written by one worker.
+  std::vector<cv::Mat> blurred(pyramid.NumLevels());
+  cv::parallel_for_(cv::Range(0, pyramid.NumLevels()), [&](const cv::Range& range) {
+    for (int l = range.start; l < range.end; ++l) {
+      if (level_used[l]) {
+        cv::GaussianBlur(pyramid.Level(l), blurred[l], cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+      }
+    }
+  });
+  cv::parallel_for_(cv::Range(0, static_cast<int>(indices.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const int k = indices[i];
+      ComputeSteeredBrief(blurred[set.keypoints[k].octave], set.level_pixels[k], set.keypoints[k].angle,
+                          descriptors.ptr<uint8_t>(i));
+    }
+  });
   return descriptors;
 }
 
