@@ -54,8 +54,11 @@ std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
 }
 
 // The `tracking:` and `mapping:` YAML sections (optional; defaults are ORB-SLAM2's RGB-D values).
-void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, ConfigSchema* schema) {
+void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* sys, ConfigSchema* schema) {
   schema->Section("tracking", "Tracker (docs/slam_core.md)")
+      .Add("refill_filtered", &sys->refill_filtered,
+           "after the dynamic filter removed keypoints, detect again outside the removed area")
+      .Add("refill_disk_px", &sys->refill_disk_px, "radius excluded around each removed keypoint (px)")
       .Add("motion_radius_px", &t->motion_radius_px, "search radius of motion-model tracking (level 0)")
       .Add("local_map_radius_factor", &t->local_map_radius_factor, "radius factor of local-map search")
       .Add("min_local_map_inliers", &t->min_local_map_inliers, "inliers needed to accept a pose")
@@ -82,8 +85,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, ConfigSchema* sc
 }
 
 SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cli, const TrackerOptions& tracker,
-                                const LocalMapperOptions& mapper) {
-  SystemOptions options;
+                                const LocalMapperOptions& mapper, const SystemOptions& bound) {
+  SystemOptions options = bound;
   options.tracker = tracker;
   options.mapper = mapper;
   options.sensor.camera = config.camera.camera;
@@ -116,7 +119,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   BindSystemConfig(&config, &schema);
   TrackerOptions tracker_options;
   LocalMapperOptions mapper_options;
-  BindSlamSections(&tracker_options, &mapper_options, &schema);
+  SystemOptions system_options;  // The keys bound in `tracking:` (refill_*).
+  BindSlamSections(&tracker_options, &mapper_options, &system_options, &schema);
   std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
   if (mode) mode->BindConfig(&schema);
   schema.Load(config_path);
@@ -133,7 +137,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   if (!schema.IsSet("tracking.max_frames_between_keyframes")) {  // ORB-SLAM2: one second of frames.
     tracker_options.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
   }
-  const SystemOptions options = MakeSystemOptions(config, cli, tracker_options, mapper_options);
+  const SystemOptions options = MakeSystemOptions(config, cli, tracker_options, mapper_options, system_options);
   std::unique_ptr<KeypointFilter> filter;
   if (mode) {
     RunModeContext context;

@@ -32,6 +32,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   int tracked = 0, lost_episodes = 0, relocalizations = 0, keyframes_inserted = 0;
   bool was_lost = false;
   std::map<std::string, std::vector<double>> filter_stages;  // Name order: deterministic JSON.
+  std::vector<double> refill, refilled;
   std::vector<double> detect, filter, describe, track, local_map, mapping, total, keypoints, filtered, inliers;
   for (const FrameRecord& r : records) {
     tracked += r.pose_valid ? 1 : 0;
@@ -42,6 +43,8 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     keyframes_inserted += r.new_keyframe ? 1 : 0;
     detect.push_back(r.timing.detect_ms);
     filter.push_back(r.timing.filter_ms);
+    refill.push_back(r.timing.refill_ms);
+    refilled.push_back(r.num_refilled);
     for (const auto& [stage, ms] : r.timing.filter_stages_ms) filter_stages[stage].push_back(ms);
     describe.push_back(r.timing.describe_ms);
     track.push_back(r.timing.track_ms);
@@ -77,8 +80,9 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
   j["keypoints_per_frame"] = StatsJson(keypoints);
   j["filtered_keypoints_per_frame"] = StatsJson(filtered);
+  j["refilled_keypoints_per_frame"] = StatsJson(refilled);  // 0 on frames without a refill.
   j["inliers_per_frame"] = StatsJson(inliers);
-  j["timing_ms"] = {{"detect", StatsJson(detect)},     {"filter", StatsJson(filter)},
+  j["timing_ms"] = {{"detect", StatsJson(detect)},     {"filter", StatsJson(filter)},     {"refill", StatsJson(refill)},
                     {"describe", StatsJson(describe)}, {"track", StatsJson(track)},
                     {"local_map", StatsJson(local_map)}, {"mapping_inline", StatsJson(mapping)},
                     {"frame_total", StatsJson(total)}, {"mapper_per_keyframe", StatsJson(mapper_ms)},

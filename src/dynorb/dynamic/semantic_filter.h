@@ -62,6 +62,7 @@ class SemanticFilter : public KeypointFilter {
   SemanticFilter(std::unique_ptr<MaskProvider> provider, const SemanticOptions& options);
   std::string name() const override { return "semantic(" + provider_->name() + ")"; }
   FilterOutput Filter(const FilterInput& input) override;
+  bool MaskCoversDetections() const override { return true; }  // Masks are the whole decision.
   // "detector" (the provider, on scheduled frames) and "propagation" (carrying masks between).
   std::vector<std::pair<std::string, double>> StageTimings() const override {
     return {{"detector", provider_ms_}, {"detector_wait", wait_ms_}, {"propagation", propagation_ms_}};

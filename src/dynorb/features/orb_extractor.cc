@@ -1,5 +1,6 @@
 #include "dynorb/features/orb_extractor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -67,7 +68,7 @@ OrbExtractor::OrbExtractor(const OrbOptions& options) : options_(options) {
   features_per_level_ = FeaturesPerLevel(options_);
 }
 
-std::vector<cv::KeyPoint> OrbExtractor::DetectOnLevel(const cv::Mat& level, int budget) const {
+std::vector<cv::KeyPoint> OrbExtractor::FastCornersOnLevel(const cv::Mat& level, int budget) const {
   // FAST runs on the window [16, size − 16); its 3-px ring keeps corners ≥ 19 px inside.
   const int w = level.cols - 2 * kDetectBorder, h = level.rows - 2 * kDetectBorder;
   const int inner_w = w - 2 * kFastRing, inner_h = h - 2 * kFastRing;
@@ -114,6 +115,14 @@ std::vector<cv::KeyPoint> OrbExtractor::DetectOnLevel(const cv::Mat& level, int 
     kp.pt.x += kDetectBorder;
     kp.pt.y += kDetectBorder;
   }
+  return found;
+}
+
+std::vector<cv::KeyPoint> OrbExtractor::DistributeOnLevel(const cv::Mat& level,
+                                                          std::vector<cv::KeyPoint> found,
+                                                          int budget) const {
+  const int w = level.cols - 2 * kDetectBorder, h = level.rows - 2 * kDetectBorder;
+  if (budget <= 0 || found.empty()) return {};
   const cv::Rect2f region(kDetectBorder, kDetectBorder, w, h);
   const std::vector<int> kept = DistributeQuadtree(found, region, budget);
   std::vector<cv::KeyPoint> out;
@@ -128,18 +137,54 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
     throw InputError("OrbExtractor::Detect: expected an 8-bit single-channel image, got type " +
                      std::to_string(image.type()));
   }
+  return DetectOnPyramid(std::make_shared<ImagePyramid>(image, levels_), cv::Mat(), nullptr);
+}
+
+KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const {
+  if (base.pyramid == nullptr)
+    throw InputError("OrbExtractor::DetectExcluding: the base set has no pyramid");
+  const cv::Size full = base.pyramid->Level(0).size();
+  if (exclude.type() != CV_8UC1 || exclude.size() != full) {
+    throw InputError("OrbExtractor::DetectExcluding: the mask must be CV_8UC1 of the image size");
+  }
+  return DetectOnPyramid(base.pyramid, exclude, base.candidates);
+}
+
+KeypointSet OrbExtractor::DetectOnPyramid(
+    std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
+    std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const {
   KeypointSet set;
-  auto pyramid = std::make_shared<ImagePyramid>(image, levels_);
   // Levels are independent: detect them on OpenCV's worker threads, then concatenate in level
   // order, so the result is the same whatever the thread count.
   const int num_levels = pyramid->NumLevels();
   std::vector<std::vector<cv::KeyPoint>> per_level(num_levels);
   std::vector<std::vector<cv::Point>> pixels(num_levels);
+  auto corners = std::make_shared<std::vector<std::vector<cv::KeyPoint>>>(num_levels);
+  if (candidates != nullptr && static_cast<int>(candidates->size()) == num_levels)
+    *corners = *candidates;
+  const bool have_corners =
+      candidates != nullptr && static_cast<int>(candidates->size()) == num_levels;
   cv::parallel_for_(cv::Range(0, num_levels), [&](const cv::Range& range) {
     for (int l = range.start; l < range.end; ++l) {
       if (!pyramid->LevelUsable(l)) continue;
       const cv::Mat& level = pyramid->Level(l);
-      per_level[l] = DetectOnLevel(level, features_per_level_[l]);
+      if (!have_corners) (*corners)[l] = FastCornersOnLevel(level, features_per_level_[l]);
+      std::vector<cv::KeyPoint> allowed = (*corners)[l];
+      if (!exclude.empty()) {
+        // Look each corner up at its full-resolution position (no per-level mask resampling,
+        // which cost more than the whole detection).
+        allowed.erase(std::remove_if(allowed.begin(), allowed.end(),
+                                     [&](const cv::KeyPoint& kp) {
+                                       const cv::Point2f f = pyramid->LevelToFull(l, kp.pt);
+                                       const int x = std::clamp(static_cast<int>(f.x + 0.5f), 0,
+                                                                exclude.cols - 1);
+                                       const int y = std::clamp(static_cast<int>(f.y + 0.5f), 0,
+                                                                exclude.rows - 1);
+                                       return exclude.at<uint8_t>(y, x) != 0;
+                                     }),
+                      allowed.end());
+      }
+      per_level[l] = DistributeOnLevel(level, std::move(allowed), features_per_level_[l]);
       const float size = static_cast<float>(kPatchSize * levels_.scale[l]);
       for (cv::KeyPoint& kp : per_level[l]) {
         const cv::Point pixel(static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y));
@@ -157,6 +202,7 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
     set.level_pixels.insert(set.level_pixels.end(), pixels[l].begin(), pixels[l].end());
   }
   set.pyramid = std::move(pyramid);
+  set.candidates = std::move(corners);
   return set;
 }
 
@@ -178,15 +224,16 @@ cv::Mat OrbExtractor::Describe(const KeypointSet& set, const std::vector<int>& i
   cv::parallel_for_(cv::Range(0, pyramid.NumLevels()), [&](const cv::Range& range) {
     for (int l = range.start; l < range.end; ++l) {
       if (level_used[l]) {
-        cv::GaussianBlur(pyramid.Level(l), blurred[l], cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+        cv::GaussianBlur(pyramid.Level(l), blurred[l], cv::Size(7, 7), 2.0, 2.0,
+                         cv::BORDER_REFLECT_101);
       }
     }
   });
   cv::parallel_for_(cv::Range(0, static_cast<int>(indices.size())), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const int k = indices[i];
-      ComputeSteeredBrief(blurred[set.keypoints[k].octave], set.level_pixels[k], set.keypoints[k].angle,
-                          descriptors.ptr<uint8_t>(i));
+      ComputeSteeredBrief(blurred[set.keypoints[k].octave], set.level_pixels[k],
+                          set.keypoints[k].angle, descriptors.ptr<uint8_t>(i));
     }
   });
   return descriptors;

@@ -41,6 +41,9 @@ struct KeypointSet {
   std::vector<cv::KeyPoint> keypoints;  // full-resolution coordinates (see file comment)
   std::vector<cv::Point> level_pixels;  // keypoints[i]'s integer pixel in its level
   std::shared_ptr<const ImagePyramid> pyramid;
+  // Per level, every FAST corner found before the quadtree distribution (level coordinates);
+  // lets DetectExcluding() redistribute the budget without running FAST again.
+  std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates;
 
   int size() const { return static_cast<int>(keypoints.size()); }
 };
@@ -59,6 +62,10 @@ class OrbExtractor {
 
   // image: CV_8UC1, non-empty (throws InputError otherwise).
   KeypointSet Detect(const cv::Mat& image) const;
+  // Detects again on `base`'s pyramid, ignoring corners where `exclude` (CV_8UC1, full image
+  // size, nonzero = excluded) is set, so each level's whole budget is spread over the rest of the
+  // image. Used after a dynamic filter removed keypoints (throws InputError on a bad mask).
+  KeypointSet DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const;
 
   // Descriptors of set.keypoints[indices[i]] in row i (indices must be valid; may repeat).
   cv::Mat Describe(const KeypointSet& set, const std::vector<int>& indices) const;
@@ -79,7 +86,15 @@ class OrbExtractor {
 
  private:
   // Keypoints of one level (level pixel coordinates) before orientation.
-  std::vector<cv::KeyPoint> DetectOnLevel(const cv::Mat& level, int budget) const;
+  // FAST corners of one level (level pixel coordinates, the ORB-SLAM cell fallback included).
+  std::vector<cv::KeyPoint> FastCornersOnLevel(const cv::Mat& level, int budget) const;
+  // The level's budget of `corners` spread by the quadtree.
+  std::vector<cv::KeyPoint> DistributeOnLevel(const cv::Mat& level,
+                                              std::vector<cv::KeyPoint> corners, int budget) const;
+  // `candidates`: FAST corners per level from an earlier detection (nullptr: run FAST).
+  KeypointSet DetectOnPyramid(
+      std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
+      std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const;
 
   OrbOptions options_;
   ScaleLevels levels_;

@@ -202,6 +202,30 @@ TEST(OrbExtractor, DescribeAfterFilterEqualsDescribeAllThenSelect) {
   EXPECT_EQ(extractor.Describe(set, {}).rows, 0);
 }
 
+TEST(OrbExtractor, DetectExcludingSpendsTheBudgetOutsideTheMask) {
+  const OrbExtractor extractor;
+  const KeypointSet all = extractor.Detect(MakeSyntheticTexture(kVga, 9));
+  // An empty exclusion changes nothing.
+  const KeypointSet same = extractor.DetectExcluding(all, cv::Mat::zeros(kVga, CV_8U));
+  ASSERT_EQ(same.size(), all.size());
+  for (int i = 0; i < all.size(); ++i) EXPECT_EQ(same.keypoints[i].pt, all.keypoints[i].pt) << i;
+  // Exclude the left 40 % (as a person covering part of the view).
+  cv::Mat exclude = cv::Mat::zeros(kVga, CV_8U);
+  const int boundary = kVga.width * 2 / 5;
+  exclude.colRange(0, boundary).setTo(255);
+  const KeypointSet right = extractor.DetectExcluding(all, exclude);
+  EXPECT_EQ(right.pyramid, all.pyramid);  // Same pyramid, no second build.
+  int inside = 0, kept_right = 0;
+  for (const cv::KeyPoint& kp : right.keypoints) inside += kp.pt.x < boundary - 1.f ? 1 : 0;
+  for (const cv::KeyPoint& kp : all.keypoints) kept_right += kp.pt.x >= boundary ? 1 : 0;
+  EXPECT_EQ(inside, 0);
+  // The whole budget goes to the rest: about as many keypoints as before, far more than the
+  // ones the first detection had there.
+  EXPECT_GE(right.size(), all.size() * 9 / 10);
+  EXPECT_GT(right.size(), kept_right * 5 / 4);
+  EXPECT_THROW(extractor.DetectExcluding(all, cv::Mat::zeros(10, 10, CV_8U)), InputError);
+}
+
 TEST(OrbExtractor, DeterministicAndIndependentOfTheCallersBuffer) {
   cv::Mat image = MakeSyntheticTexture(kVga, 5);
   const OrbFeatures a = OrbExtractor().DetectAndDescribe(image);

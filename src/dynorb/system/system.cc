@@ -8,11 +8,14 @@
 namespace dynorb {
 
 void SystemOptions::Validate() const {
-  if (sensor.camera.fx <= 0.0 || sensor.camera.fy <= 0.0 || sensor.camera.width <= 0 || sensor.camera.height <= 0) {
+  if (sensor.camera.fx <= 0.0 || sensor.camera.fy <= 0.0 || sensor.camera.width <= 0 ||
+      sensor.camera.height <= 0) {
     throw InputError("camera intrinsics and image size must be positive");
   }
-  if (sensor.bf <= 0.0 || sensor.th_depth_m <= 0.0) throw InputError("Camera.bf and ThDepth must be positive");
+  if (sensor.bf <= 0.0 || sensor.th_depth_m <= 0.0)
+    throw InputError("Camera.bf and ThDepth must be positive");
   if (mapper_queue_capacity < 1) throw InputError("mapper queue capacity must be >= 1");
+  if (refill_disk_px < 0) throw InputError("refill_disk_px must be >= 0");
   orb.Validate();
   tracker.Validate();
   mapper.Validate();
@@ -25,7 +28,8 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
       tracker_(options.sensor, options.tracker, &map_),
       mapper_(options.sensor, options.mapper, &map_),
       queue_(static_cast<size_t>(options.mapper_queue_capacity)) {
-  if (options_.run_mode == RunMode::kParallel) mapper_thread_ = std::thread([this] { MapperLoop(); });
+  if (options_.run_mode == RunMode::kParallel)
+    mapper_thread_ = std::thread([this] { MapperLoop(); });
 }
 
 System::~System() { Finish(); }
@@ -50,9 +54,11 @@ void System::MapperLoop() {
   }
 }
 
-const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m) {
+const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
+                                        const cv::Mat& depth_m) {
   if (bgr.type() != CV_8UC3 || depth_m.type() != CV_32FC1 || bgr.size() != depth_m.size()) {
-    throw InputError("ProcessFrame expects a CV_8UC3 image and a CV_32FC1 depth map of the same size");
+    throw InputError(
+        "ProcessFrame expects a CV_8UC3 image and a CV_32FC1 depth map of the same size");
   }
   Stopwatch total;
   FrameRecord record;
@@ -68,6 +74,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
   if (record_keypoints_) record.detected = set.keypoints;
 
   std::vector<bool> keep(set.size(), true);
+  KeypointSet refilled;
   if (filter_) {
     watch.Restart();
     FilterInput input;
@@ -80,18 +87,37 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
     input.predicted_cam_from_previous_cam = last_velocity_;
     input.want_overlay = record_overlays_;
     FilterOutput out = filter_->Filter(input);
-    if (out.keep.size() != keep.size()) throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
+    if (out.keep.size() != keep.size())
+      throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
     record.timing.filter_ms = watch.ElapsedMs();
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
     if (record_overlays_) record.filter_overlay = out.overlay;
+    if (options_.refill_filtered && record.num_filtered > 0 && filter_->MaskCoversDetections()) {
+      watch.Restart();
+      cv::Mat exclude = out.dynamic_mask.empty() || out.dynamic_mask.size() != gray.size()
+                            ? cv::Mat::zeros(gray.size(), CV_8U)
+                            : (out.dynamic_mask != 0);
+      for (int i = 0; i < set.size(); ++i) {
+        if (!keep[i])
+          cv::circle(exclude, set.keypoints[i].pt, options_.refill_disk_px, cv::Scalar(255),
+                     cv::FILLED);
+      }
+      refilled = extractor_.DetectExcluding(set, exclude);
+      record.num_refilled = refilled.size();
+      record.timing.refill_ms = watch.ElapsedMs();
+    }
   }
 
   watch.Restart();
-  const OrbFeatures orb = extractor_.DescribeKept(set, keep);
-  auto features = std::make_shared<const FrameFeatures>(orb, depth_m, options_.sensor, extractor_.levels());
+  const bool use_refill = record.num_refilled > 0;
+  const OrbFeatures orb =
+      use_refill ? extractor_.DescribeKept(refilled, std::vector<bool>(refilled.size(), true))
+                 : extractor_.DescribeKept(set, keep);
+  auto features =
+      std::make_shared<const FrameFeatures>(orb, depth_m, options_.sensor, extractor_.levels());
   record.timing.describe_ms = watch.ElapsedMs();
 
   Track(&record, std::move(features));
@@ -101,7 +127,8 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
   return records_.back();
 }
 
-const FrameRecord& System::ProcessFeatures(double timestamp_s, std::shared_ptr<const FrameFeatures> features) {
+const FrameRecord& System::ProcessFeatures(double timestamp_s,
+                                           std::shared_ptr<const FrameFeatures> features) {
   Stopwatch total;
   FrameRecord record;
   record.id = next_frame_id_;
@@ -116,8 +143,10 @@ const FrameRecord& System::ProcessFeatures(double timestamp_s, std::shared_ptr<c
 void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features) {
   ++next_frame_id_;
   Stopwatch watch;
-  const bool mapper_idle = options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
-  const TrackingResult result = tracker_.ProcessOne(Frame(record->id, record->timestamp_s, std::move(features)), mapper_idle);
+  const bool mapper_idle =
+      options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
+  const TrackingResult result =
+      tracker_.ProcessOne(Frame(record->id, record->timestamp_s, std::move(features)), mapper_idle);
   record->timing.track_ms = watch.ElapsedMs();
   record->timing.local_map_ms = result.local_map_ms;
   record->state = result.state;
@@ -129,8 +158,9 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
 
   if (result.pose_valid) {
     const Rigid3d reference_pose = map_.Read([&](const MapData& map) {
-      return map.HasKeyframe(result.reference_keyframe) ? map.keyframe(result.reference_keyframe).cam_from_world
-                                                        : map.ResolveKeyframePose(result.reference_keyframe);
+      return map.HasKeyframe(result.reference_keyframe)
+                 ? map.keyframe(result.reference_keyframe).cam_from_world
+                 : map.ResolveKeyframePose(result.reference_keyframe);
     });
     record->cam_from_reference = result.cam_from_world * reference_pose.Inverse();
     // Motion prediction for the next frame's filter: cam_k_from_cam_{k-1}.
@@ -164,7 +194,8 @@ Trajectory System::FrameTrajectory() const {
     Trajectory trajectory;
     for (const FrameRecord& r : records_) {
       if (!r.pose_valid) continue;
-      const Rigid3d cam_from_world = r.cam_from_reference * map.ResolveKeyframePose(r.reference_keyframe);
+      const Rigid3d cam_from_world =
+          r.cam_from_reference * map.ResolveKeyframePose(r.reference_keyframe);
       trajectory.push_back({r.timestamp_s, cam_from_world.Inverse()});
     }
     return trajectory;
@@ -174,7 +205,8 @@ Trajectory System::FrameTrajectory() const {
 Trajectory System::KeyframeTrajectory() const {
   return map_.Read([&](const MapData& map) {
     Trajectory trajectory;
-    for (const auto& [id, kf] : map.keyframes()) trajectory.push_back({kf.timestamp_s, kf.cam_from_world.Inverse()});
+    for (const auto& [id, kf] : map.keyframes())
+      trajectory.push_back({kf.timestamp_s, kf.cam_from_world.Inverse()});
     return trajectory;
   });
 }
@@ -184,7 +216,11 @@ std::vector<MapperStepStats> System::mapper_stats() const {
   return mapper_stats_;
 }
 
-size_t System::NumKeyframes() const { return map_.Read([](const MapData& m) { return m.NumKeyframes(); }); }
-size_t System::NumLandmarks() const { return map_.Read([](const MapData& m) { return m.NumLandmarks(); }); }
+size_t System::NumKeyframes() const {
+  return map_.Read([](const MapData& m) { return m.NumKeyframes(); });
+}
+size_t System::NumLandmarks() const {
+  return map_.Read([](const MapData& m) { return m.NumLandmarks(); });
+}
 
 }  // namespace dynorb

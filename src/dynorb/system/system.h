@@ -15,12 +15,12 @@
 #include <thread>
 #include <vector>
 
+#include "dynorb/core/blocking_queue.h"
 #include "dynorb/core/trajectory.h"
 #include "dynorb/dynamic/keypoint_filter.h"
 #include "dynorb/features/orb_extractor.h"
 #include "dynorb/map/map.h"
 #include "dynorb/mapping/local_mapper.h"
-#include "dynorb/core/blocking_queue.h"
 #include "dynorb/tracking/tracker.h"
 
 namespace dynorb {
@@ -34,12 +34,19 @@ struct SystemOptions {
   LocalMapperOptions mapper;
   RunMode run_mode = RunMode::kSequential;
   int mapper_queue_capacity = 3;  // Keyframes waiting for the mapper (parallel mode).
-  void Validate() const;          // Throws InputError.
+  // After the keypoint filter removed keypoints, detect again on the same pyramid with the
+  // removed area excluded (the filter's dynamic mask plus a disk around each removed keypoint),
+  // so the whole feature budget lands on the static part of the image. Only for filters whose
+  // mask covers what they found (KeypointFilter::MaskCoversDetections: the semantic filter).
+  bool refill_filtered = true;
+  int refill_disk_px = 10;
+  void Validate() const;  // Throws InputError.
 };
 
 struct FrameTiming {
   double detect_ms = 0.0, filter_ms = 0.0, describe_ms = 0.0, track_ms = 0.0, local_map_ms = 0.0;
   double mapping_ms = 0.0;  // Inline mapping (sequential mode) after this frame.
+  double refill_ms = 0.0;   // Second detection after filtering (SystemOptions::refill_filtered).
   double total_ms = 0.0;
   std::vector<std::pair<std::string, double>> filter_stages_ms;  // KeypointFilter::StageTimings().
 };
@@ -54,10 +61,11 @@ struct FrameRecord {
   Rigid3d cam_from_reference;  // Pose relative to the reference keyframe when tracked.
   int num_keypoints = 0;       // Detected.
   int num_filtered = 0;        // Removed by the keypoint filter.
+  int num_refilled = 0;        // Keypoints used after the refill detection (0: no refill).
   int num_inliers = 0;
   bool new_keyframe = false;
   FrameTiming timing;
-  std::vector<bool> keep;      // Filter decision per detected keypoint (empty without a filter).
+  std::vector<bool> keep;  // Filter decision per detected keypoint (empty without a filter).
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
   cv::Mat filter_overlay;              // The filter's drawing (only when record_overlays).
 };
@@ -72,7 +80,8 @@ class System {
   // bgr: CV_8UC3; depth_m: CV_32F metres (0 = none), same size.
   const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m);
   // Tracking from ready-made features (tests, external front ends).
-  const FrameRecord& ProcessFeatures(double timestamp_s, std::shared_ptr<const FrameFeatures> features);
+  const FrameRecord& ProcessFeatures(double timestamp_s,
+                                     std::shared_ptr<const FrameFeatures> features);
   // Waits for the mapper to process every queued keyframe (parallel mode). Idempotent.
   void Finish();
 

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "dynorb/core/error.h"
+#include <memory>
+#include <opencv2/imgproc.hpp>
 
+#include "dynorb/core/error.h"
+#include "dynorb/features/synthetic_texture.h"
 #include "dynorb/tracking/test_world.h"
 
 namespace dynorb {
@@ -22,7 +25,8 @@ double TrajectoryRmse(const Trajectory& trajectory) {
   double sum_sq = 0.0;
   for (const StampedPose& p : trajectory) {
     const int k = static_cast<int>(std::lround(p.timestamp_s * 30.0));
-    sum_sq += (p.world_from_cam.translation - testing::TruthInFirstCamera(k).Inverse().translation).squaredNorm();
+    sum_sq += (p.world_from_cam.translation - testing::TruthInFirstCamera(k).Inverse().translation)
+                  .squaredNorm();
   }
   return std::sqrt(sum_sq / trajectory.size());
 }
@@ -30,7 +34,8 @@ double TrajectoryRmse(const Trajectory& trajectory) {
 Trajectory RunWorld(RunMode mode, int frames) {
   FeatureWorld world(21);
   System system(Options(world, mode));
-  for (int k = 0; k < frames; ++k) system.ProcessFeatures(k / 30.0, world.Observe(FeatureWorld::WorldFromCam(k), 100 + k));
+  for (int k = 0; k < frames; ++k)
+    system.ProcessFeatures(k / 30.0, world.Observe(FeatureWorld::WorldFromCam(k), 100 + k));
   system.Finish();
   return system.FrameTrajectory();
 }
@@ -52,11 +57,52 @@ TEST(System, ParallelModeTracksEveryFrame) {
   EXPECT_LT(TrajectoryRmse(t), 0.015);
 }
 
+// Rejects every keypoint left of x = 256 and reports that strip as its dynamic mask.
+class LeftStripFilter : public KeypointFilter {
+ public:
+  std::string name() const override { return "left-strip"; }
+  bool MaskCoversDetections() const override { return true; }
+  FilterOutput Filter(const FilterInput& input) override {
+    FilterOutput out;
+    for (const cv::KeyPoint& k : input.keypoints->keypoints) out.keep.push_back(k.pt.x >= 256.f);
+    out.dynamic_mask = cv::Mat::zeros(input.gray->size(), CV_8U);
+    out.dynamic_mask.colRange(0, 256).setTo(255);
+    return out;
+  }
+};
+
+TEST(System, RefillSpendsTheFeatureBudgetOutsideTheFilteredArea) {
+  FeatureWorld world(1);
+  cv::Mat gray = MakeSyntheticTexture(cv::Size(640, 480), 11), bgr;
+  cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
+  const cv::Mat depth(480, 640, CV_32F, cv::Scalar(2.f));
+  for (const bool refill : {false, true}) {
+    SystemOptions options = Options(world, RunMode::kSequential);
+    options.refill_filtered = refill;
+    System system(options, std::make_unique<LeftStripFilter>());
+    const FrameRecord& r = system.ProcessFrame(0.0, bgr, depth);
+    SCOPED_TRACE(refill);
+    EXPECT_GT(r.num_filtered, 200);
+    const int kept = r.num_keypoints - r.num_filtered;
+    if (!refill) {
+      EXPECT_EQ(r.num_refilled, 0);
+      continue;
+    }
+    // The refill keeps about the full budget, all right of the strip (plus the disk margin).
+    EXPECT_GT(r.num_refilled, kept + r.num_filtered / 2);
+    EXPECT_GE(r.num_refilled, r.num_keypoints * 9 / 10);
+    const Trajectory keyframes = system.KeyframeTrajectory();
+    EXPECT_EQ(keyframes.size(), 1u);  // Initialised from the refilled features.
+  }
+}
+
 TEST(System, RejectsBadImages) {
   FeatureWorld world(1);
   System system(Options(world, RunMode::kSequential));
-  EXPECT_THROW(system.ProcessFrame(0.0, cv::Mat(480, 640, CV_8UC1), cv::Mat(480, 640, CV_32F)), InputError);
-  EXPECT_THROW(system.ProcessFrame(0.0, cv::Mat(480, 640, CV_8UC3), cv::Mat(240, 320, CV_32F)), InputError);
+  EXPECT_THROW(system.ProcessFrame(0.0, cv::Mat(480, 640, CV_8UC1), cv::Mat(480, 640, CV_32F)),
+               InputError);
+  EXPECT_THROW(system.ProcessFrame(0.0, cv::Mat(480, 640, CV_8UC3), cv::Mat(240, 320, CV_32F)),
+               InputError);
 }
 
 }  // namespace
