@@ -5,9 +5,8 @@
 //   sort candidates by (difference, t_gt, t_est); accept greedily if neither pose is used yet;
 //   return the accepted pairs sorted by ground-truth stamp.
 //
-// Computed in O((n + m) log(n + m)) without listing all candidates: the smallest remaining
-// difference is always between two neighbours of opposite kind in the merged, sorted list of
-// the still-unmatched stamps, so a heap of neighbouring pairs reproduces the greedy order.
+// Computed by core/stamp_association.h (shared with the dataset reader) after checking that both
+// stamp lists are strictly increasing.
 // Pure functions, thread-safe.
 #pragma once
 

@@ -1,23 +1,13 @@
 #include "dynorb/io/association.h"
 
-#include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <tuple>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/stamp_association.h"
 #include "dynorb/io/text_lines.h"
 
 namespace dynorb {
 namespace {
-
-struct Candidate {
-  double difference;
-  double first_stamp;
-  double second_stamp;
-  size_t i;
-  size_t j;
-};
 
 void CheckIncreasing(const std::string& path, int line_no, double previous, double current,
                      bool has_previous) {
@@ -41,46 +31,7 @@ std::vector<std::pair<size_t, size_t>> AssociateTimestamps(const std::vector<dou
                                                            const std::vector<double>& second,
                                                            const AssociationOptions& options) {
   options.Validate();
-  const double max_diff = options.max_difference_s;
-  // Shifted second stamps, sorted. Floating-point addition and subtraction are monotone, so the
-  // predicates below are monotone along the sorted order and binary search finds the exact window
-  // of associate.py's condition abs(a - (b + offset)) < max_difference.
-  std::vector<size_t> order(second.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::vector<double> shifted(second.size());
-  for (size_t j = 0; j < second.size(); ++j) shifted[j] = second[j] + options.offset_s;
-  std::sort(order.begin(), order.end(),
-            [&](size_t x, size_t y) { return shifted[x] < shifted[y]; });
-
-  std::vector<Candidate> candidates;
-  for (size_t i = 0; i < first.size(); ++i) {
-    const double a = first[i];
-    // First position where a - c < max_diff (c too small before it).
-    auto begin = std::partition_point(order.begin(), order.end(),
-                                      [&](size_t j) { return !(a - shifted[j] < max_diff); });
-    for (auto it = begin; it != order.end(); ++it) {
-      const double c = shifted[*it];
-      if (!(c - a < max_diff)) break;  // all further c are even larger
-      const double difference = std::abs(a - c);
-      if (difference < max_diff) candidates.push_back({difference, a, second[*it], i, *it});
-    }
-  }
-  // Python sorts tuples (diff, a, b): ties broken by the first, then the second stamp.
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
-    return std::tie(x.difference, x.first_stamp, x.second_stamp) <
-           std::tie(y.difference, y.first_stamp, y.second_stamp);
-  });
-  std::vector<char> used_first(first.size(), 0), used_second(second.size(), 0);
-  std::vector<std::pair<size_t, size_t>> matches;
-  for (const Candidate& c : candidates) {
-    if (used_first[c.i] || used_second[c.j]) continue;
-    used_first[c.i] = used_second[c.j] = 1;
-    matches.emplace_back(c.i, c.j);
-  }
-  std::sort(matches.begin(), matches.end(), [&](const auto& x, const auto& y) {
-    return std::tie(first[x.first], second[x.second]) < std::tie(first[y.first], second[y.second]);
-  });
-  return matches;
+  return AssociateNearestStamps(first, second, options.max_difference_s, options.offset_s);
 }
 
 std::vector<StampedPath> ReadImageList(const std::string& path) {

@@ -8,8 +8,8 @@
 //   candidates = all (i, j) with |first[i] - (second[j] + offset)| < max_difference,
 //   sorted by (difference, first stamp, second stamp); greedily accept a candidate when neither
 //   stamp has been used yet; finally sort the accepted pairs by the first stamp.
-// It runs in O(n log n + k log k) (k = number of candidates inside the window) instead of
-// associate.py's O(n*m). Stateless free functions, thread-safe.
+// It runs in O((n + m) log(n + m)) (core/stamp_association.h, shared with the evaluator) instead
+// of associate.py's O(n*m). Stateless free functions, thread-safe.
 #pragma once
 
 #include <string>
