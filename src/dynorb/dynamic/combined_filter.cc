@@ -1,6 +1,7 @@
 #include "dynorb/dynamic/combined_filter.h"
 
 #include <opencv2/core.hpp>
+#include <algorithm>
 #include <stdexcept>
 
 #include "dynorb/core/timer.h"
@@ -32,7 +33,18 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");
-    for (size_t i = 0; i < n; ++i) out.keep[i] = out.keep[i] && part.keep[i];
+    const bool region_only = parts_[p].only_inside_mask && !part.dynamic_mask.empty();
+    for (size_t i = 0; i < n; ++i) {
+      bool keep = part.keep[i];
+      if (!keep && region_only) {
+        // Only removals backed by the part's dynamic region count (isolated votes are dropped).
+        const cv::Point2f& pt = input.keypoints->keypoints[i].pt;
+        const int x = std::clamp(static_cast<int>(pt.x + 0.5f), 0, part.dynamic_mask.cols - 1);
+        const int y = std::clamp(static_cast<int>(pt.y + 0.5f), 0, part.dynamic_mask.rows - 1);
+        keep = part.dynamic_mask.at<uint8_t>(y, x) == 0;
+      }
+      out.keep[i] = out.keep[i] && keep;
+    }
     if (!part.dynamic_mask.empty()) {
       if (out.dynamic_mask.empty()) {
         out.dynamic_mask = part.dynamic_mask.clone();

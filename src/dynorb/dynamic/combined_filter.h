@@ -21,6 +21,8 @@ class CombinedFilter : public KeypointFilter {
   struct Part {
     std::string label;
     std::unique_ptr<KeypointFilter> filter;
+    // Count this part's removals only where its dynamic mask is set (drops isolated votes).
+    bool only_inside_mask = false;
   };
   explicit CombinedFilter(std::vector<Part> parts);  // Throws std::invalid_argument when empty.
 

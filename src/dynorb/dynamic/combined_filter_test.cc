@@ -75,6 +75,25 @@ TEST(CombinedFilter, KeepsOnlyWhatEveryPartKeepsAndOrsTheMasks) {
   EXPECT_NE(combined.name().find("band + band"), std::string::npos);
 }
 
+TEST(CombinedFilter, OnlyInsideMaskDropsRemovalsOutsideThePartsRegion) {
+  // The part rejects x in [10, 40) but its mask marks only [10, 20): the keypoints at 22 and 32
+  // are isolated votes and are kept.
+  class WideVotes : public BandFilter {
+   public:
+    WideVotes() : BandFilter(10.f, 20.f, 0.0) {}
+    FilterOutput Filter(const FilterInput& input) override {
+      FilterOutput out = BandFilter::Filter(input);
+      for (size_t i = 0; i < out.keep.size(); ++i) out.keep[i] = input.keypoints->keypoints[i].pt.x < 10.f;
+      return out;
+    }
+  };
+  std::vector<CombinedFilter::Part> parts;
+  parts.push_back({"fast", std::make_unique<WideVotes>(), true});
+  CombinedFilter combined(std::move(parts));
+  Frame frame;
+  EXPECT_EQ(combined.Filter(frame.Input(false)).keep, (std::vector<bool>{true, false, true, true}));
+}
+
 TEST(CombinedFilter, NoOverlayUnlessAskedAndEmptyPartsRejected) {
   std::vector<CombinedFilter::Part> parts;
   parts.push_back({"a", std::make_unique<BandFilter>(0.f, 5.f, 0.0)});
