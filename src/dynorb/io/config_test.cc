@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "dynorb/core/error.h"
+#include "dynorb/io/test_temp_dir.h"
 
 namespace dynorb {
 namespace {
@@ -37,22 +38,9 @@ void ExpectSameCamera(const PinholeCamera& a, const PinholeCamera& b) {
   EXPECT_EQ(a.height, b.height);
 }
 
-class ConfigTest : public ::testing::Test {
+class ConfigTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("dynorb_config_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& content) {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path) << content;
-    return path;
-  }
-  fs::path dir_;
+  ConfigTest() : TempDirTest("dynorb_config_") {}
 };
 
 // A settings file in the style of ORB-SLAM2's Examples/RGB-D/TUM1.yaml (OpenCV FileStorage):

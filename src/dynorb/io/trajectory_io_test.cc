@@ -7,27 +7,16 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
+#include "dynorb/io/test_temp_dir.h"
 
 namespace dynorb {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TrajectoryIoTest : public ::testing::Test {
+class TrajectoryIoTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dynorb_traj_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                        "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& content) {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path) << content;
-    return path;
-  }
-  fs::path dir_;
+  TrajectoryIoTest() : TempDirTest("dynorb_traj_io_") {}
 };
 
 TEST_F(TrajectoryIoTest, RoundTrip) {

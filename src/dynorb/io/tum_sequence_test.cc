@@ -9,6 +9,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/io/rgbd_image_io.h"
+#include "dynorb/io/test_temp_dir.h"
 
 namespace dynorb {
 namespace {
@@ -27,24 +28,18 @@ void ExpectInputError(Fn&& fn, const std::string& needle) {
   }
 }
 
-class TumSequenceTest : public ::testing::Test {
+class TumSequenceTest : public testing::TempDirTest {
  protected:
+  TumSequenceTest() : TempDirTest("dynorb_tum_seq_") {}
   static constexpr int kWidth = 8;
   static constexpr int kHeight = 6;
 
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("dynorb_tum_seq_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    TempDirTest::SetUp();
     fs::create_directories(dir_ / "rgb");
     fs::create_directories(dir_ / "depth");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  void WriteText(const std::string& name, const std::string& content) {
-    std::ofstream(dir_ / name) << content;
-  }
+  void WriteText(const std::string& name, const std::string& content) { Write(name, content); }
   static cv::Mat RgbImage(int k) {
     cv::Mat rgb(kHeight, kWidth, CV_8UC3);
     for (int v = 0; v < kHeight; ++v) {
@@ -83,7 +78,6 @@ class TumSequenceTest : public ::testing::Test {
   }
   std::string folder() const { return dir_.string(); }
 
-  fs::path dir_;
 };
 
 TEST_F(TumSequenceTest, StreamsFramesWithExactDepth) {
