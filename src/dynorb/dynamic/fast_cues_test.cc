@@ -10,6 +10,7 @@
 
 #include "dynorb/dynamic/fast_region.h"
 #include "dynorb/dynamic/motion_ego.h"
+#include "dynorb/geometry/two_view.h"
 
 namespace dynorb {
 namespace {
@@ -22,14 +23,6 @@ PinholeCamera Camera() {
   c.width = 640;
   c.height = 480;
   return c;
-}
-
-Eigen::Matrix3d Fundamental(const PinholeCamera& camera, const Rigid3d& cur_from_prev) {
-  const Eigen::Vector3d& t = cur_from_prev.translation;
-  Eigen::Matrix3d skew;
-  skew << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
-  const Eigen::Matrix3d k_inv = camera.K().inverse();
-  return k_inv.transpose() * skew * cur_from_prev.rotation.toRotationMatrix() * k_inv;
 }
 
 // A static scene seen from two poses: points p1 (previous) and p2 (current), depth of p2.
@@ -62,7 +55,7 @@ const Rigid3d kMotion(Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Eigen::Vector3d
 TEST(EpipolarCue, KnownFundamentalWithInjectedMovers) {
   const PinholeCamera camera = Camera();
   TwoViews v = MakeStatic(camera, kMotion, 200, 1);
-  const Eigen::Matrix3d f = Fundamental(camera, kMotion);
+  const Eigen::Matrix3d f = FundamentalFromMotion(camera, kMotion);
   // Movers: shift 40 points by 6 px perpendicular to their epipolar line; 10 gross mismatches.
   for (int i = 0; i < 50; ++i) {
     const Eigen::Vector3d line = f * Eigen::Vector3d(v.p1[i].x, v.p1[i].y, 1.0);

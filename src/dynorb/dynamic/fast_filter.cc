@@ -12,17 +12,10 @@
 #include "dynorb/dynamic/fast_cues.h"
 #include "dynorb/dynamic/motion_ego.h"
 #include "dynorb/features/orb_matcher.h"
+#include "dynorb/geometry/two_view.h"
 
 namespace dynorb {
 namespace {
-
-Eigen::Matrix3d FundamentalFromMotion(const PinholeCamera& camera, const Rigid3d& cur_from_prev) {
-  const Eigen::Vector3d& t = cur_from_prev.translation;
-  Eigen::Matrix3d skew;
-  skew << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
-  const Eigen::Matrix3d k_inv = camera.K().inverse();
-  return k_inv.transpose() * skew * cur_from_prev.rotation.toRotationMatrix() * k_inv;
-}
 
 bool IsMoving(CueVote v) { return v == CueVote::kMoving; }
 

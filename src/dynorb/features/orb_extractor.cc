@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstdio>
 #include <cstdlib>
 #include <opencv2/core/utility.hpp>
@@ -159,30 +160,31 @@ KeypointSet OrbExtractor::DetectOnPyramid(
   const int num_levels = pyramid->NumLevels();
   std::vector<std::vector<cv::KeyPoint>> per_level(num_levels);
   std::vector<std::vector<cv::Point>> pixels(num_levels);
-  auto corners = std::make_shared<std::vector<std::vector<cv::KeyPoint>>>(num_levels);
-  if (candidates != nullptr && static_cast<int>(candidates->size()) == num_levels)
-    *corners = *candidates;
-  const bool have_corners =
-      candidates != nullptr && static_cast<int>(candidates->size()) == num_levels;
+  // FAST corners: reused from an earlier detection on the same pyramid (shared, not copied), or
+  // found now.
+  const bool have_corners = candidates != nullptr && static_cast<int>(candidates->size()) == num_levels;
+  std::shared_ptr<std::vector<std::vector<cv::KeyPoint>>> fresh;
+  if (!have_corners) fresh = std::make_shared<std::vector<std::vector<cv::KeyPoint>>>(num_levels);
   cv::parallel_for_(cv::Range(0, num_levels), [&](const cv::Range& range) {
     for (int l = range.start; l < range.end; ++l) {
       if (!pyramid->LevelUsable(l)) continue;
       const cv::Mat& level = pyramid->Level(l);
-      if (!have_corners) (*corners)[l] = FastCornersOnLevel(level, features_per_level_[l]);
-      std::vector<cv::KeyPoint> allowed = (*corners)[l];
-      if (!exclude.empty()) {
+      if (!have_corners) (*fresh)[l] = FastCornersOnLevel(level, features_per_level_[l]);
+      const std::vector<cv::KeyPoint>& level_corners = have_corners ? (*candidates)[l] : (*fresh)[l];
+      std::vector<cv::KeyPoint> allowed;
+      if (exclude.empty()) {
+        allowed = level_corners;
+      } else {
         // Look each corner up at its full-resolution position (no per-level mask resampling,
         // which cost more than the whole detection).
-        allowed.erase(std::remove_if(allowed.begin(), allowed.end(),
-                                     [&](const cv::KeyPoint& kp) {
-                                       const cv::Point2f f = pyramid->LevelToFull(l, kp.pt);
-                                       const int x = std::clamp(static_cast<int>(f.x + 0.5f), 0,
-                                                                exclude.cols - 1);
-                                       const int y = std::clamp(static_cast<int>(f.y + 0.5f), 0,
-                                                                exclude.rows - 1);
-                                       return exclude.at<uint8_t>(y, x) != 0;
-                                     }),
-                      allowed.end());
+        allowed.reserve(level_corners.size());
+        std::copy_if(level_corners.begin(), level_corners.end(), std::back_inserter(allowed),
+                     [&](const cv::KeyPoint& kp) {
+                       const cv::Point2f f = pyramid->LevelToFull(l, kp.pt);
+                       const int x = std::clamp(static_cast<int>(f.x + 0.5f), 0, exclude.cols - 1);
+                       const int y = std::clamp(static_cast<int>(f.y + 0.5f), 0, exclude.rows - 1);
+                       return exclude.at<uint8_t>(y, x) == 0;
+                     });
       }
       per_level[l] = DistributeOnLevel(level, std::move(allowed), features_per_level_[l]);
       const float size = static_cast<float>(kPatchSize * levels_.scale[l]);
@@ -202,7 +204,11 @@ KeypointSet OrbExtractor::DetectOnPyramid(
     set.level_pixels.insert(set.level_pixels.end(), pixels[l].begin(), pixels[l].end());
   }
   set.pyramid = std::move(pyramid);
-  set.candidates = std::move(corners);
+  if (have_corners) {
+    set.candidates = std::move(candidates);
+  } else {
+    set.candidates = std::move(fresh);
+  }
   return set;
 }
 

@@ -24,7 +24,10 @@ std::optional<Eigen::Vector3d> TriangulateDlt(const Rigid3d& cam1_from_world, co
 
 Eigen::Matrix3d FundamentalFromPoses(const PinholeCamera& camera, const Rigid3d& cam1_from_world,
                                      const Rigid3d& cam2_from_world) {
-  const Rigid3d cam2_from_cam1 = cam2_from_world * cam1_from_world.Inverse();
+  return FundamentalFromMotion(camera, cam2_from_world * cam1_from_world.Inverse());
+}
+
+Eigen::Matrix3d FundamentalFromMotion(const PinholeCamera& camera, const Rigid3d& cam2_from_cam1) {
   const Eigen::Vector3d& t = cam2_from_cam1.translation;
   Eigen::Matrix3d skew;
   skew << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;

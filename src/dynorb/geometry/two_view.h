@@ -23,6 +23,8 @@ std::optional<Eigen::Vector3d> TriangulateDlt(const Rigid3d& cam1_from_world, co
 
 Eigen::Matrix3d FundamentalFromPoses(const PinholeCamera& camera, const Rigid3d& cam1_from_world,
                                      const Rigid3d& cam2_from_world);
+// The same from the relative motion cam2_from_cam1 directly.
+Eigen::Matrix3d FundamentalFromMotion(const PinholeCamera& camera, const Rigid3d& cam2_from_cam1);
 
 // Distance in pixels of pixel x2 (camera 2) to the epipolar line F21 * x1.
 double EpipolarDistancePx(const Eigen::Matrix3d& f21, const Eigen::Vector2d& x1, const Eigen::Vector2d& x2);
