@@ -72,6 +72,10 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("close_keyframe_min_frames", &t->close_keyframe_min_frames,
            "frames after a keyframe before 'need close points' may ask again")
       .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")
+      .Add("provisional_min_found", &t->provisional_min_found,
+           "landmarks of one keyframe found in fewer frames must agree with the established map's pose (0: off)")
+      .Add("provisional_min_established", &t->pose.min_established,
+           "established observations needed before provisional ones are held back")
       .OnLoaded([t] { t->Validate(); });
   schema->Section("mapping", "Local mapper (docs/slam_core.md)")
       .Add("local_bundle_adjustment", &m->local_bundle_adjustment, "run local BA")

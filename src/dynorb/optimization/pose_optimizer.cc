@@ -16,7 +16,7 @@ namespace dynorb {
 
 void PoseOptimizerOptions::Validate() const {
   if (num_rounds < 1 || iterations_per_round < 1 || robust_rounds < 0 || chi2_mono <= 0.0 ||
-      chi2_stereo <= 0.0) {
+      chi2_stereo <= 0.0 || min_established < 0) {
     throw InputError("pose optimizer: rounds/iterations must be >= 1 and chi2 gates > 0");
   }
 }
@@ -43,12 +43,19 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
 
+  int established = 0;
+  for (const PoseObservation& obs : observations) established += obs.provisional ? 0 : 1;
+  const bool hold_back_provisional = established >= options.min_established && options.robust_rounds > 0 &&
+                                     options.robust_rounds < options.num_rounds;
+
   for (int round = 0; round < options.num_rounds; ++round) {
     if (round == options.robust_rounds) {
       losses.SwitchToL2();
     }
     for (size_t i = 0; i < observations.size(); ++i) {
-      if (result.inlier[i] == (blocks[i] != nullptr)) continue;
+      const bool wanted = result.inlier[i] && !(hold_back_provisional && round < options.robust_rounds &&
+                                                observations[i].provisional);
+      if (wanted == (blocks[i] != nullptr)) continue;
       if (blocks[i] != nullptr) {
         problem.RemoveResidualBlock(blocks[i]);
         blocks[i] = nullptr;

@@ -5,6 +5,12 @@
 // Levenberg-Marquardt iterations; after each round every observation is re-classified by its
 // chi^2 against the gate (5.991 for 2 dof, 7.815 for 3 dof: 95 %), outliers are excluded from
 // the next round, and the robust kernel is dropped for the last rounds.
+// Provisional observations (landmarks the map has not confirmed yet, e.g. created from depth by
+// the previous keyframe) take no part in the robust rounds when at least `min_established`
+// established observations exist: the pose comes from the established map first, and a
+// provisional observation joins the plain rounds only if it agrees with that pose (chi^2 gate).
+// A mover that a keyframe turned into fresh landmarks thus cannot pull the next frame's pose by
+// up to a gate's width per point; in a static scene the fresh points still refine the pose.
 // Stateless and thread-safe; deterministic (single-threaded Ceres).
 #pragma once
 
@@ -22,12 +28,14 @@ struct PoseOptimizerOptions {
   int robust_rounds = 2;            // Rounds that use the Huber kernel (the rest are plain L2).
   double chi2_mono = 5.991;         // 95 % chi^2 gate, 2 dof.
   double chi2_stereo = 7.815;       // 95 % chi^2 gate, 3 dof.
+  int min_established = 50;         // Fewer established observations: provisional ones count fully.
   void Validate() const;            // Throws InputError on nonsense values.
 };
 
 struct PoseObservation {
   Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
   KeypointObservation keypoint;
+  bool provisional = false;  // Unconfirmed landmark: must agree with the established pose first.
 };
 
 struct PoseOptimizerResult {

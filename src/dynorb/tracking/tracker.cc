@@ -14,7 +14,7 @@ void TrackerOptions::Validate() const {
   if (min_init_points < 10 || min_init_depth_points < 3 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
       min_local_map_inliers < 3 || max_local_keyframes < 1 || max_frames_between_keyframes < 1 ||
       reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
-      close_tracked_max < 0 || close_untracked_min < 0) {
+      close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }
   pose.Validate();
@@ -135,6 +135,18 @@ int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
     index.push_back(static_cast<int>(i));
   }
   if (observations.size() < 3) return 0;
+  if (options_.provisional_min_found > 0) {
+    // Landmarks one keyframe created and fewer than provisional_min_found frames confirmed.
+    map_->Read([&](const MapData& map) {
+      for (size_t k = 0; k < index.size(); ++k) {
+        const LandmarkId lm = frame->landmarks[index[k]];
+        if (!map.HasLandmark(lm)) continue;
+        const Landmark& l = map.landmark(lm);
+        observations[k].provisional = l.NumObservations() < 2 && l.num_found < options_.provisional_min_found;
+      }
+      return 0;
+    });
+  }
   const PoseOptimizerResult r = OptimizePose(sensor_.camera, sensor_.bf, observations, frame->cam_from_world, options_.pose);
   frame->cam_from_world = r.cam_from_world;
   for (size_t k = 0; k < index.size(); ++k) {

@@ -28,6 +28,11 @@ struct TrackerOptions {
   // where a busy mapper spaces them). Unrepeatable close keypoints (texture-poor desks, sensor
   // noise) otherwise keep the rule true and give a keyframe per frame, half of them culled again.
   int close_keyframe_min_frames = 5;
+  // A landmark seen by one keyframe and found in fewer frames than this is provisional in pose
+  // optimisation (optimization/pose_optimizer.h): it must agree with the pose of the established
+  // map before it counts. Keyframes turn every untracked close keypoint into a landmark — in a
+  // dynamic scene the closest untracked keypoints are the movers. 0 disables.
+  int provisional_min_found = 3;
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
   int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
   uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
