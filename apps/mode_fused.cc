@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "dynorb/core/error.h"
 #include "dynorb/dynamic/combined_filter.h"
 #include "mode_fast.h"
 #include "mode_semantic.h"
@@ -18,12 +19,19 @@ class FusedModeFactory : public RunModeFactory {
     fast_.BindConfig(schema);
     schema->Section("fused", "fused mode: semantic + FAST (docs/semantic_mode.md)")
         .Add("fast_only_in_regions", &fast_only_in_regions_,
-             "count FAST removals only inside its dynamic regions (isolated votes dropped)");
+             "count FAST removals only inside its dynamic regions (isolated votes dropped)")
+        .Add("fast_max_removed_fraction", &fast_max_removed_fraction_,
+             "FAST evidence is ignored on a frame where it would remove more than this fraction of the keypoints "
+             "the detector kept (1: never)")
+        .OnLoaded([this] {
+          if (!(fast_max_removed_fraction_ > 0.0 && fast_max_removed_fraction_ <= 1.0))
+            throw InputError("fused.fast_max_removed_fraction must be in (0, 1]");
+        });
   }
   std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override {
     std::vector<CombinedFilter::Part> parts;
     parts.push_back({"semantic", semantic_.Create(context)});
-    parts.push_back({"fast", fast_.Create(context), fast_only_in_regions_});
+    parts.push_back({"fast", fast_.Create(context), fast_only_in_regions_, fast_max_removed_fraction_});
     return std::make_unique<CombinedFilter>(std::move(parts));
   }
 
@@ -31,6 +39,7 @@ class FusedModeFactory : public RunModeFactory {
   SemanticModeFactory semantic_;
   FastModeFactory fast_;
   bool fast_only_in_regions_ = true;  // Measured: FAST precision 0.46 -> 0.54 on walking_xyz.
+  double fast_max_removed_fraction_ = 0.1;  // Measured: walking_rpy 14.2 -> 7.9 mm, no lost episodes.
 };
 
 const bool kRegistered = RegisterRunMode(

@@ -9,13 +9,16 @@
 namespace dynorb {
 
 CombinedFilter::CombinedFilter(std::vector<Part> parts)
-    : parts_(std::move(parts)), part_ms_(parts_.size(), 0.0) {
+    : parts_(std::move(parts)), part_ms_(parts_.size(), 0.0), distrusted_(parts_.size(), 0) {
   if (parts_.empty()) throw std::invalid_argument("CombinedFilter needs at least one filter");
   for (const Part& p : parts_) {
     if (!p.filter)
       throw std::invalid_argument("CombinedFilter: part '" + p.label + "' has no filter");
+    if (!(p.max_removed_fraction > 0.0 && p.max_removed_fraction <= 1.0))
+      throw std::invalid_argument("CombinedFilter: part '" + p.label + "': max_removed_fraction must be in (0, 1]");
   }
 }
+
 
 std::string CombinedFilter::name() const {
   std::string n = "fused(";
@@ -33,18 +36,32 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");
-    const bool region_only = parts_[p].only_inside_mask && !part.dynamic_mask.empty();
+    const bool region_only = parts_[p].only_inside_mask;
+    std::vector<bool> keep(n, true);
+    size_t candidates = 0, removed = 0;
     for (size_t i = 0; i < n; ++i) {
-      bool keep = part.keep[i];
-      if (!keep && region_only) {
+      keep[i] = part.keep[i];
+      if (!keep[i] && region_only) {
         // Only removals backed by the part's dynamic region count (isolated votes are dropped).
         const cv::Point2f& pt = input.keypoints->keypoints[i].pt;
+        if (part.dynamic_mask.empty()) {
+          keep[i] = true;
+          continue;
+        }
         const int x = std::clamp(static_cast<int>(pt.x + 0.5f), 0, part.dynamic_mask.cols - 1);
         const int y = std::clamp(static_cast<int>(pt.y + 0.5f), 0, part.dynamic_mask.rows - 1);
-        keep = part.dynamic_mask.at<uint8_t>(y, x) == 0;
+        keep[i] = part.dynamic_mask.at<uint8_t>(y, x) == 0;
       }
-      out.keep[i] = out.keep[i] && keep;
+      if (out.keep[i]) {
+        ++candidates;
+        removed += keep[i] ? 0 : 1;
+      }
     }
+    if (static_cast<double>(removed) > parts_[p].max_removed_fraction * static_cast<double>(candidates)) {
+      ++distrusted_[p];
+      continue;  // Neither removals nor mask; the overlay is dropped with them.
+    }
+    for (size_t i = 0; i < n; ++i) out.keep[i] = out.keep[i] && keep[i];
     if (!part.dynamic_mask.empty()) {
       if (out.dynamic_mask.empty()) {
         out.dynamic_mask = part.dynamic_mask.clone();

@@ -94,6 +94,31 @@ TEST(CombinedFilter, OnlyInsideMaskDropsRemovalsOutsideThePartsRegion) {
   EXPECT_EQ(combined.Filter(frame.Input(false)).keep, (std::vector<bool>{true, false, true, true}));
 }
 
+TEST(CombinedFilter, APartThatWouldRemoveTooMuchIsDistrustedForTheFrame) {
+  // "semantic" removes x in [10, 20) (1 of 4 keypoints); "fast" then removes x in [0, 40): all
+  // 3 keypoints semantic kept, above its cap of 1/2, so its removals and mask are dropped.
+  auto make = [](double cap) {
+    std::vector<CombinedFilter::Part> parts;
+    parts.push_back({"semantic", std::make_unique<BandFilter>(10.f, 20.f, 0.0)});
+    parts.push_back({"fast", std::make_unique<BandFilter>(0.f, 40.f, 0.0), true, cap});
+    return CombinedFilter(std::move(parts));
+  };
+  CombinedFilter capped = make(0.5);
+  Frame frame;
+  const FilterOutput out = capped.Filter(frame.Input(false));
+  EXPECT_EQ(out.keep, (std::vector<bool>{true, false, true, true}));
+  EXPECT_EQ(cv::countNonZero(out.dynamic_mask), 10 * 20);
+  EXPECT_EQ(capped.distrusted_frames(1), 1);
+  EXPECT_EQ(capped.distrusted_frames(0), 0);
+  CombinedFilter uncapped = make(1.0);
+  Frame frame2;
+  EXPECT_EQ(uncapped.Filter(frame2.Input(false)).keep, (std::vector<bool>(4, false)));
+  EXPECT_EQ(uncapped.distrusted_frames(1), 0);
+  std::vector<CombinedFilter::Part> bad;
+  bad.push_back({"fast", std::make_unique<BandFilter>(0.f, 5.f, 0.0), true, 0.0});
+  EXPECT_THROW(CombinedFilter(std::move(bad)), std::invalid_argument);
+}
+
 TEST(CombinedFilter, NoOverlayUnlessAskedAndEmptyPartsRejected) {
   std::vector<CombinedFilter::Part> parts;
   parts.push_back({"a", std::make_unique<BandFilter>(0.f, 5.f, 0.0)});
