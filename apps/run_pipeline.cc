@@ -216,6 +216,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
   schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
+  WriteFileAtomically((fs::path(cli.out) / "frames.csv").string(), FramesCsv(system.records()));
   WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
   return stats;
 }

@@ -26,6 +26,10 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
 nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& inputs,
                              const std::optional<EvalResult>& evaluation);
 
+// frames.csv: one line per processed frame (state, keyframe, keypoint counts, inliers, stage
+// times), with a header line. For finding where a run went wrong (docs/slam_core.md "Outputs").
+std::string FramesCsv(const std::vector<FrameRecord>& records);
+
 // A few aligned lines for stdout.
 std::string FormatRunSummary(const nlohmann::json& stats);
 

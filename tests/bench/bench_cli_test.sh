@@ -119,6 +119,16 @@ for run in r["runs"]:
     assert s["ate"]["rmse_m"] >= 0 and "frame_total" in s["timing_ms"]
 assert "dynamic_keypoints" in r["runs"][0]["stats"]
 EOF
+/usr/bin/python3 - "$OUT/runs/syn/plain/seed1/frames.csv" "$OUT/runs/syn/plain/seed1/stats.json" <<'EOF' || fail "frames.csv content"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+assert len(rows) == 14, len(rows)
+assert [int(r["frame"]) for r in rows] == list(range(14))
+assert sum(int(r["new_keyframe"]) for r in rows) == s["keyframes_inserted"], rows
+assert sum(r["state"] == "ok" for r in rows) == s["tracked_frames"]
+assert all(float(r["total_ms"]) > 0 and int(r["keypoints"]) > 0 for r in rows)
+EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
 sleep 1
