@@ -76,6 +76,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "landmarks of one keyframe found in fewer frames must agree with the established map's pose (0: off)")
       .Add("provisional_min_established", &t->pose.min_established,
            "established observations needed before provisional ones are held back")
+      .Add("provisional_gate_factor", &t->pose.provisional_gate_factor,
+           "chi2 gate factor (0..1] for provisional landmarks joining the established pose")
       .OnLoaded([t] { t->Validate(); });
   schema->Section("mapping", "Local mapper (docs/slam_core.md)")
       .Add("local_bundle_adjustment", &m->local_bundle_adjustment, "run local BA")

@@ -16,7 +16,8 @@ namespace dynorb {
 
 void PoseOptimizerOptions::Validate() const {
   if (num_rounds < 1 || iterations_per_round < 1 || robust_rounds < 0 || chi2_mono <= 0.0 ||
-      chi2_stereo <= 0.0 || min_established < 0) {
+      chi2_stereo <= 0.0 || min_established < 0 ||
+      !(provisional_gate_factor > 0.0 && provisional_gate_factor <= 1.0)) {
     throw InputError("pose optimizer: rounds/iterations must be >= 1 and chi2 gates > 0");
   }
 }
@@ -73,7 +74,8 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
     const Rigid3d cam_from_world = FromPoseBlock(pose.data());
     for (size_t i = 0; i < observations.size(); ++i) {
       const PoseObservation& obs = observations[i];
-      const double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
       const double chi2 = ReprojectionChi2(camera, bf, obs.keypoint, cam_from_world * obs.point_in_world);
       result.inlier[i] = chi2 <= gate;
     }

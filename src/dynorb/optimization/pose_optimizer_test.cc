@@ -66,46 +66,70 @@ TEST(PoseOptimizer, RecoversKnownPoseMonoWithOutliers) { ExpectRecovers(false); 
 TEST(PoseOptimizer, RecoversKnownPoseRgbdWithOutliers) { ExpectRecovers(true); }
 
 // A mover that a keyframe just turned into landmarks: 120 fresh (provisional) landmarks on an
-// object that moved 1 cm sideways since, next to 200 established static ones. Everything else
-// exact. Counted fully, the movers pull the pose; held back, the pose comes from the static map
-// and the moved points fail the gate, while fresh static points still join.
-TEST(PoseOptimizer, ProvisionalObservationsMustAgreeWithTheEstablishedPose) {
-  std::mt19937_64 rng(5);
-  const Rigid3d truth = testing::Perturb(Rigid3d(), 0.1, 0.1, rng);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
+// object that moved sideways since, next to 200 established static ones and 40 fresh static
+// ones. Everything else exact.
+struct ProvisionalScene {
+  Rigid3d truth;
   std::vector<PoseObservation> observations;
   std::vector<int> kind;  // 0 established static, 1 provisional static, 2 provisional mover.
+};
+
+ProvisionalScene MakeProvisionalScene(double mover_shift_m) {
+  ProvisionalScene s;
+  std::mt19937_64 rng(5);
+  s.truth = testing::Perturb(Rigid3d(), 0.1, 0.1, rng);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
   auto add = [&](const Eigen::Vector3d& p_cam, const Eigen::Vector3d& moved_by_in_world, bool provisional, int k) {
     PoseObservation obs;
-    obs.point_in_world = truth.Inverse() * p_cam;
-    obs.keypoint = testing::Observe(kCamera, kBf, truth, obs.point_in_world + moved_by_in_world, true, 1e-9, rng);
+    obs.point_in_world = s.truth.Inverse() * p_cam;
+    obs.keypoint = testing::Observe(kCamera, kBf, s.truth, obs.point_in_world + moved_by_in_world, true, 1e-9, rng);
     obs.provisional = provisional;
-    observations.push_back(obs);
-    kind.push_back(k);
+    s.observations.push_back(obs);
+    s.kind.push_back(k);
   };
   for (int i = 0; i < 200; ++i) add({2.0 * u(rng), 1.5 * u(rng), 3.5 + u(rng)}, Eigen::Vector3d::Zero(), false, 0);
   for (int i = 0; i < 40; ++i) add({2.0 * u(rng), 1.5 * u(rng), 3.5 + u(rng)}, Eigen::Vector3d::Zero(), true, 1);
-  const Eigen::Vector3d moved = truth.rotation.inverse() * Eigen::Vector3d(0.01, 0.0, 0.0);
+  const Eigen::Vector3d moved = s.truth.rotation.inverse() * Eigen::Vector3d(mover_shift_m, 0.0, 0.0);
   for (int i = 0; i < 120; ++i) add({-0.3 + 0.3 * u(rng), 0.4 * u(rng), 1.2 + 0.1 * u(rng)}, moved, true, 2);
+  return s;
+}
 
-  auto translation_error = [&](const PoseOptimizerResult& r) {
-    return (r.cam_from_world * truth.Inverse()).translation.norm();
-  };
+double TranslationError(const PoseOptimizerResult& r, const Rigid3d& truth) {
+  return (r.cam_from_world * truth.Inverse()).translation.norm();
+}
+
+std::vector<int> InliersByKind(const ProvisionalScene& s, const PoseOptimizerResult& r) {
+  std::vector<int> count(3, 0);
+  for (size_t i = 0; i < s.observations.size(); ++i) count[s.kind[i]] += r.inlier[i] ? 1 : 0;
+  return count;
+}
+
+// Moved 1 cm (≈ 4.5 px, beyond the gate): counted fully the movers drag the pose by millimetres;
+// provisional, the pose comes from the established map, the movers fail the gate and the fresh
+// static points still join.
+TEST(PoseOptimizer, ProvisionalObservationsMustAgreeWithTheEstablishedPose) {
+  const ProvisionalScene s = MakeProvisionalScene(0.01);
   PoseOptimizerOptions all_count;
   all_count.min_established = 1000000;  // More than there are: provisional ones count fully.
-  const PoseOptimizerResult pulled = OptimizePose(kCamera, kBf, observations, truth, all_count);
-  const PoseOptimizerResult held = OptimizePose(kCamera, kBf, observations, truth);
-  EXPECT_GT(translation_error(pulled), 1e-3);  // The mover drags the pose by millimetres ...
-  EXPECT_LT(translation_error(held), 1e-6);    // ... unless it has to agree with the map first.
-  int movers_in = 0, fresh_static_in = 0, established_in = 0;
-  for (size_t i = 0; i < observations.size(); ++i) {
-    if (kind[i] == 0) established_in += held.inlier[i] ? 1 : 0;
-    if (kind[i] == 1) fresh_static_in += held.inlier[i] ? 1 : 0;
-    if (kind[i] == 2) movers_in += held.inlier[i] ? 1 : 0;
-  }
-  EXPECT_EQ(established_in, 200);
-  EXPECT_EQ(fresh_static_in, 40);
-  EXPECT_EQ(movers_in, 0);
+  const PoseOptimizerResult pulled = OptimizePose(kCamera, kBf, s.observations, s.truth, all_count);
+  const PoseOptimizerResult held = OptimizePose(kCamera, kBf, s.observations, s.truth);
+  EXPECT_GT(TranslationError(pulled, s.truth), 1e-3);
+  EXPECT_LT(TranslationError(held, s.truth), 1e-6);
+  EXPECT_EQ(InliersByKind(s, held), (std::vector<int>{200, 40, 0}));
+}
+
+// Moved 4 mm (≈ 1.8 px, inside the full gate of 2.8 px): with the full gate the movers join and
+// pull; the default tighter gate for provisional points (factor 0.25: 1.4 px) keeps them out.
+TEST(PoseOptimizer, ProvisionalObservationsPassATighterGate) {
+  const ProvisionalScene s = MakeProvisionalScene(0.004);
+  PoseOptimizerOptions full_gate;
+  full_gate.provisional_gate_factor = 1.0;
+  const PoseOptimizerResult joined = OptimizePose(kCamera, kBf, s.observations, s.truth, full_gate);
+  const PoseOptimizerResult tight = OptimizePose(kCamera, kBf, s.observations, s.truth);
+  EXPECT_EQ(InliersByKind(s, joined)[2], 120);
+  EXPECT_GT(TranslationError(joined, s.truth), 2e-4);
+  EXPECT_EQ(InliersByKind(s, tight), (std::vector<int>{200, 40, 0}));
+  EXPECT_LT(TranslationError(tight, s.truth), 1e-6);
 }
 
 TEST(PoseOptimizer, IsDeterministic) {
@@ -131,6 +155,11 @@ TEST(PoseOptimizer, ValidateRejectsNonsense) {
   EXPECT_THROW(options.Validate(), InputError);
   options = PoseOptimizerOptions();
   options.min_established = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options = PoseOptimizerOptions();
+  options.provisional_gate_factor = 0.0;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.provisional_gate_factor = 1.5;
   EXPECT_THROW(options.Validate(), InputError);
   EXPECT_NO_THROW(PoseOptimizerOptions().Validate());
 }
