@@ -87,34 +87,46 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
   DynamicObjects carried;
   carried.mask = cv::Mat::zeros(gray.size(), CV_8U);
   if (from_gray.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
-  for (const DynamicObject& object : from.objects) {
-    // Sample up to 8x8 points inside the object's mask and box.
-    const cv::Rect box = cv::Rect(object.detection.box) & cv::Rect(0, 0, gray.cols, gray.rows);
+  // Up to 8x8 points inside each object's mask and box, all tracked in one LK call (one pyramid
+  // per image instead of one per object; LK tracks every point independently).
+  std::vector<cv::Point2f> points, moved;
+  std::vector<size_t> first(from.objects.size() + 1, 0);
+  std::vector<cv::Rect> boxes(from.objects.size());
+  for (size_t o = 0; o < from.objects.size(); ++o) {
+    first[o] = points.size();
+    boxes[o] = cv::Rect(from.objects[o].detection.box) & cv::Rect(0, 0, gray.cols, gray.rows);
+    const cv::Rect& box = boxes[o];
     if (box.empty()) continue;
-    std::vector<cv::Point2f> points, moved;
+    const size_t before = points.size();
     for (int iy = 0; iy < 8; ++iy) {
       for (int ix = 0; ix < 8; ++ix) {
         const cv::Point p(box.x + (2 * ix + 1) * box.width / 16, box.y + (2 * iy + 1) * box.height / 16);
         if (from.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
       }
     }
+    if (points.size() - before < 4) points.resize(before);  // Too few to trust a median.
+  }
+  first[from.objects.size()] = points.size();
+  std::vector<uint8_t> status;
+  if (!points.empty()) {
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(from_gray, gray, points, moved, status, error, cv::Size(21, 21), 3);
+  }
+  for (size_t o = 0; o < from.objects.size(); ++o) {
+    const DynamicObject& object = from.objects[o];
+    if (boxes[o].empty()) continue;
     float dx = 0.f, dy = 0.f;
-    if (points.size() >= 4) {
-      std::vector<uint8_t> status;
-      std::vector<float> error;
-      cv::calcOpticalFlowPyrLK(from_gray, gray, points, moved, status, error, cv::Size(21, 21), 3);
-      std::vector<float> xs, ys;
-      for (size_t i = 0; i < points.size(); ++i) {
-        if (!status[i]) continue;
-        xs.push_back(moved[i].x - points[i].x);
-        ys.push_back(moved[i].y - points[i].y);
-      }
-      if (!xs.empty()) {
-        std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
-        std::nth_element(ys.begin(), ys.begin() + ys.size() / 2, ys.end());
-        dx = xs[xs.size() / 2];
-        dy = ys[ys.size() / 2];
-      }
+    std::vector<float> xs, ys;
+    for (size_t i = first[o]; i < first[o + 1]; ++i) {
+      if (!status[i]) continue;
+      xs.push_back(moved[i].x - points[i].x);
+      ys.push_back(moved[i].y - points[i].y);
+    }
+    if (!xs.empty()) {
+      std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
+      std::nth_element(ys.begin(), ys.begin() + ys.size() / 2, ys.end());
+      dx = xs[xs.size() / 2];
+      dy = ys[ys.size() / 2];
     }
     DynamicObject next = object;
     next.detection.box.x += dx;
