@@ -84,6 +84,34 @@ done
 HTML="$DIR/stored/report.html"
 [[ $(grep -c "<table" "$HTML") -ge 8 ]] || fail "report.html: fewer than 8 tables"
 grep -qF "report test fixture &lt;&amp;&gt;" "$HTML" || fail "report.html: text not escaped"
+# Two dynamic sequences: the pooled robustness rows. syn_walking_rpy = syn_walking_xyz with half
+# the dynamic ATE: plain ratios 3, 4, 1.5, 2 (median 2.5), fast 1, 1.2, 0.5, 0.6 (median 0.8).
+mkdir -p "$DIR/pooled"
+/usr/bin/python3 - "$SRC/tests/bench/data/results.json" "$DIR/pooled/results.json" <<'EOF' || fail "pooled fixture"
+import copy, json, sys
+r = json.load(open(sys.argv[1]))
+for s in list(r["suite"]["sequences"]):
+    if s["name"].startswith("syn_walking_xyz"):
+        t = copy.deepcopy(s)
+        t["name"] = s["name"].replace("xyz", "rpy")
+        if t["twin_of"]: t["twin_of"] = "syn_walking_rpy"
+        r["suite"]["sequences"].append(t)
+for run in list(r["runs"]):
+    if run["sequence"].startswith("syn_walking_xyz"):
+        t = copy.deepcopy(run)
+        t["sequence"] = run["sequence"].replace("xyz", "rpy")
+        if t["sequence"] == "syn_walking_rpy" and "stats" in t:
+            t["stats"]["ate"]["rmse_m"] *= 0.5
+        r["runs"].append(t)
+json.dump(r, open(sys.argv[2], "w"))
+EOF
+"$DYNORB" bench --report "$DIR/pooled" >/dev/null || fail "--report pooled"
+for needle in "| syn_walking_rpy | 1.75 [1.50-2.00] | 0.55 [0.50-0.60] |" \
+  "| all sequences and seeds | 2.50 [1.50-4.00] | 0.80 [0.50-1.20] |" "| ratio <= 1.3 | 0 of 4 | 4 of 4 |"; do
+  grep -qF -- "$needle" "$DIR/pooled/report.md" || fail "pooled report.md lacks '$needle'"
+done
+grep -qF "all sequences and seeds" "$MD" && fail "one dynamic sequence must not get a pooled row"
+
 echo '{"format": "something else"}' >"$DIR/stored/results.json"
 err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
 [[ $? == 2 ]] && grep -qF "not a dynorb bench results.json" <<<"$err" || fail "bad results.json: $err"
