@@ -102,7 +102,7 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
 }
 
 TEST(BenchSuite, ShippedSuitesParse) {
-  for (const char* name : {"quick", "synthetic", "tum"}) {
+  for (const char* name : {"quick", "synthetic", "tum", "demo", "dynamic_seeds"}) {
     const BenchSuite suite =
         LoadBenchSuite(std::string(DYNORB_SOURCE_DIR) + "/bench/suites/" + name + ".yaml");
     EXPECT_EQ(suite.name, name);
