@@ -31,7 +31,7 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->callback([cli] {
     const nlohmann::json stats = RunPipeline(*cli);
     std::cout << FormatRunSummary(stats) << "outputs: " << cli->out
-              << "/{trajectory.txt,keyframes.txt,stats.json,effective_config.yaml}\n";
+              << "/{trajectory.txt,keyframes.txt,stats.json,frames.csv,effective_config.yaml}\n";
   });
 });
 
