@@ -4,14 +4,9 @@
 #include <cmath>
 #include <limits>
 
-namespace dynorb {
+#include "dynorb/geometry/two_view.h"
 
-double EpipolarLineDistance(const Eigen::Matrix3d& f21, const cv::Point2f& p1, const cv::Point2f& p2) {
-  const Eigen::Vector3d line = f21 * Eigen::Vector3d(p1.x, p1.y, 1.0);
-  const double norm = std::hypot(line.x(), line.y());
-  if (norm < 1e-12) return 0.0;
-  return std::abs(line.x() * p2.x + line.y() * p2.y + line.z()) / norm;
-}
+namespace dynorb {
 
 std::vector<CueVote> EpipolarCue(const Eigen::Matrix3d& f21, const std::vector<cv::Point2f>& p1,
                                  const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid,
@@ -19,7 +14,8 @@ std::vector<CueVote> EpipolarCue(const Eigen::Matrix3d& f21, const std::vector<c
   std::vector<CueVote> votes(p1.size(), CueVote::kUnknown);
   for (size_t i = 0; i < p1.size(); ++i) {
     if (!valid[i]) continue;
-    const double d = EpipolarLineDistance(f21, p1[i], p2[i]);
+    const double d = EpipolarDistancePx(f21, Eigen::Vector2d(p1[i].x, p1[i].y), Eigen::Vector2d(p2[i].x, p2[i].y));
+    if (!std::isfinite(d)) continue;  // No epipolar line (the point is at the epipole): no evidence.
     votes[i] = d <= t1_px ? CueVote::kStatic : (d < t2_px ? CueVote::kMoving : CueVote::kMismatch);
   }
   return votes;

@@ -25,10 +25,9 @@ namespace dynorb {
 
 enum class CueVote : uint8_t { kUnknown = 0, kStatic = 1, kMoving = 2, kMismatch = 3 };
 
-// Distance (px) of p2 to the epipolar line F·p1 (x2ᵀ F x1 = 0).
-double EpipolarLineDistance(const Eigen::Matrix3d& f21, const cv::Point2f& p1, const cv::Point2f& p2);
-
-// One vote per point; invalid points (valid[i] == 0) are kUnknown.
+// One vote per point from the distance of p2 to the epipolar line F·p1 (geometry's
+// EpipolarDistancePx): <= t1 static, < t2 moving, else mismatch. Invalid points (valid[i] == 0)
+// and points without an epipolar line (F·p1 has no direction) are kUnknown.
 std::vector<CueVote> EpipolarCue(const Eigen::Matrix3d& f21, const std::vector<cv::Point2f>& p1,
                                  const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid,
                                  double t1_px, double t2_px);

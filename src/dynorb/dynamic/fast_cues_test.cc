@@ -62,7 +62,8 @@ TEST(EpipolarCue, KnownFundamentalWithInjectedMovers) {
     const Eigen::Vector2d normal = line.head<2>().normalized();
     const double shift = i < 40 ? 6.0 : 80.0;
     v.p2[i] += cv::Point2f(static_cast<float>(shift * normal.x()), static_cast<float>(shift * normal.y()));
-    EXPECT_NEAR(EpipolarLineDistance(f, v.p1[i], v.p2[i]), shift, 1e-3);
+    EXPECT_NEAR(EpipolarDistancePx(f, Eigen::Vector2d(v.p1[i].x, v.p1[i].y), Eigen::Vector2d(v.p2[i].x, v.p2[i].y)),
+                shift, 1e-3);
   }
   v.valid[199] = 0;
   const std::vector<CueVote> votes = EpipolarCue(f, v.p1, v.p2, v.valid, 1.5, 30.0);
@@ -73,6 +74,9 @@ TEST(EpipolarCue, KnownFundamentalWithInjectedMovers) {
                                        : CueVote::kStatic;
     EXPECT_EQ(static_cast<int>(votes[i]), static_cast<int>(expected)) << i;
   }
+  // No epipolar line at all (degenerate F): no evidence either way, not "static".
+  for (CueVote vote : EpipolarCue(Eigen::Matrix3d::Zero(), v.p1, v.p2, v.valid, 1.5, 30.0))
+    EXPECT_EQ(static_cast<int>(vote), static_cast<int>(CueVote::kUnknown));
 }
 
 // Uniform camera flow with an independent mover in one corner.
