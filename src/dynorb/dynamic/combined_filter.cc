@@ -7,6 +7,16 @@
 #include "dynorb/core/timer.h"
 
 namespace dynorb {
+namespace {
+
+bool InsideMask(const cv::Mat& mask, const cv::Point2f& pt) {
+  if (mask.empty()) return false;
+  const int x = std::clamp(static_cast<int>(pt.x + 0.5f), 0, mask.cols - 1);
+  const int y = std::clamp(static_cast<int>(pt.y + 0.5f), 0, mask.rows - 1);
+  return mask.at<uint8_t>(y, x) != 0;
+}
+
+}  // namespace
 
 CombinedFilter::CombinedFilter(std::vector<Part> parts)
     : parts_(std::move(parts)), part_ms_(parts_.size(), 0.0), distrusted_(parts_.size(), 0) {
@@ -36,22 +46,13 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");
+    // With only_inside_mask, only removals backed by the part's dynamic region count (isolated
+    // votes are dropped; an empty mask backs none).
     const bool region_only = parts_[p].only_inside_mask;
     std::vector<bool> keep(n, true);
     size_t candidates = 0, removed = 0;
     for (size_t i = 0; i < n; ++i) {
-      keep[i] = part.keep[i];
-      if (!keep[i] && region_only) {
-        // Only removals backed by the part's dynamic region count (isolated votes are dropped).
-        const cv::Point2f& pt = input.keypoints->keypoints[i].pt;
-        if (part.dynamic_mask.empty()) {
-          keep[i] = true;
-          continue;
-        }
-        const int x = std::clamp(static_cast<int>(pt.x + 0.5f), 0, part.dynamic_mask.cols - 1);
-        const int y = std::clamp(static_cast<int>(pt.y + 0.5f), 0, part.dynamic_mask.rows - 1);
-        keep[i] = part.dynamic_mask.at<uint8_t>(y, x) == 0;
-      }
+      keep[i] = part.keep[i] || (region_only && !InsideMask(part.dynamic_mask, input.keypoints->keypoints[i].pt));
       if (out.keep[i]) {
         ++candidates;
         removed += keep[i] ? 0 : 1;
