@@ -8,6 +8,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/stats.h"
+#include "dynorb/io/text_lines.h"
 
 namespace dynorb {
 
@@ -17,7 +18,38 @@ std::optional<MaskGroundTruth> MaskGroundTruth::Open(const std::string& dataset)
   MaskGroundTruth gt;
   gt.folder_ = dataset;
   gt.masks_ = ReadImageList(list.string());
+  const std::filesystem::path objects = std::filesystem::path(dataset) / "objects.txt";
+  if (std::filesystem::exists(objects)) {
+    gt.has_objects_file_ = true;
+    const std::string path = objects.string();
+    ForEachDataLine(path, [&](int line, const std::vector<std::string>& fields) {
+      if (fields.size() < 3) throw InputError(path + ":" + std::to_string(line) + ": expected 'ts id moving ...'");
+      const double stamp = ParseDouble(fields[0], path, line);
+      const double id = ParseDouble(fields[1], path, line);
+      const double moving = ParseDouble(fields[2], path, line);
+      if (id != std::floor(id) || id < 1 || id > 255 || (moving != 0 && moving != 1)) {
+        throw InputError(path + ":" + std::to_string(line) + ": id must be 1..255 and moving 0 or 1");
+      }
+      if (gt.still_ids_.empty() || gt.still_ids_.back().first != stamp) {
+        if (!gt.still_ids_.empty() && stamp < gt.still_ids_.back().first) {
+          throw InputError(path + ":" + std::to_string(line) + ": timestamps must not decrease");
+        }
+        gt.still_ids_.push_back({stamp, {}});
+      }
+      if (moving == 0) gt.still_ids_.back().second.push_back(static_cast<int>(id));
+    });
+  }
   return gt;
+}
+
+cv::Mat MaskGroundTruth::StillObjectsAt(const cv::Mat& mask, double timestamp_s) const {
+  if (mask.empty() || still_ids_.empty()) return cv::Mat();
+  auto it = std::lower_bound(still_ids_.begin(), still_ids_.end(), timestamp_s - 0.005,
+                             [](const auto& entry, double t) { return entry.first < t; });
+  if (it == still_ids_.end() || std::abs(it->first - timestamp_s) >= 0.005 || it->second.empty()) return cv::Mat();
+  cv::Mat still = cv::Mat::zeros(mask.size(), CV_8U);
+  for (int id : it->second) still.setTo(255, mask == id);
+  return still;
 }
 
 cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
@@ -40,12 +72,16 @@ cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
 }
 
 void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
-                             const cv::Mat& mask) {
+                             const cv::Mat& mask, const cv::Mat& ignore) {
   if (mask.empty()) return;
   long long tp = 0, fp = 0, fn = 0;
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const int x = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.x)), 0, mask.cols - 1);
     const int y = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.y)), 0, mask.rows - 1);
+    if (!ignore.empty() && ignore.at<uint8_t>(y, x) != 0) {
+      ++ignored_;
+      continue;
+    }
     const bool truth = mask.at<uint8_t>(y, x) != 0;
     const bool predicted = !keep.empty() && !keep[i];
     if (predicted && truth) ++tp;
@@ -68,6 +104,7 @@ nlohmann::json KeypointLabelStats::ToJson() const {
           {"false_positive", fp_},
           {"false_negative", fn_},
           {"true_negative", tn_},
+          {"ignored", ignored_},
           {"precision", ratio(tp_, tp_ + fp_)},
           {"recall", ratio(tp_, tp_ + fn_)},
           {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},

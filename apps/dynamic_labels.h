@@ -21,21 +21,31 @@ class MaskGroundTruth {
   // The mask whose stamp is within 5 ms of `timestamp_s` (empty Mat if none). Throws InputError
   // if the listed PNG is missing or not 8-bit single channel.
   cv::Mat MaskAt(double timestamp_s) const;
+  // The pixels of `mask` (from MaskAt) whose object stands still at `timestamp_s` according to
+  // the dataset's objects.txt ("ts id moving ..."), 255 there; empty when the dataset has no
+  // objects.txt or every object moves. A person who stops and the desk item before it starts
+  // are in the masks but are not moving at that frame.
+  cv::Mat StillObjectsAt(const cv::Mat& mask, double timestamp_s) const;
+  bool has_object_states() const { return has_objects_file_; }
 
  private:
   std::string folder_;
   std::vector<StampedPath> masks_;
+  bool has_objects_file_ = false;
+  std::vector<std::pair<double, std::vector<int>>> still_ids_;  // Per stamp (sorted): still object ids.
 };
 
 // Counts over keypoints: positive = labelled dynamic (removed); truth = on a moving-object pixel.
 class KeypointLabelStats {
  public:
   // keep: per keypoint, true = kept as static (empty = all kept, e.g. plain mode).
-  void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask);
+  // ignore (optional, CV_8U): keypoints on its non-zero pixels are not counted at all.
+  void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask,
+           const cv::Mat& ignore = cv::Mat());
   nlohmann::json ToJson() const;
 
  private:
-  long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0;
+  long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0, ignored_ = 0;
   std::vector<double> frame_precision_, frame_recall_;
   int frames_ = 0;
 };

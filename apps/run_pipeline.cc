@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -156,6 +157,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   }
   const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(cli.dataset);
   KeypointLabelStats label_stats;
+  KeypointLabelStats moving_now_stats;  // Objects standing still at the frame ignored (objects.txt).
+  std::map<std::string, KeypointLabelStats> cue_stats;  // Per filter cue (KeypointFilter::CueFlags), moving now.
   System system(options, std::move(filter));
   system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
   system.set_record_overlays(!cli.overlays.empty());
@@ -164,12 +167,16 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   // PNG decoding (≈ 6 ms/frame) overlaps processing on the second core; results are unchanged.
   struct LoadedFrame {
     RgbdFrame frame;
-    cv::Mat mask;  // Ground-truth moving-object mask (empty without masks).
+    cv::Mat mask;   // Ground-truth moving-object mask (empty without masks).
+    cv::Mat still;  // Its objects that stand still at this frame (empty: none or no objects.txt).
   };
   Prefetcher<LoadedFrame> frames(last - first, [&sequence, &masks, first](size_t k) {
     LoadedFrame loaded;
     loaded.frame = sequence.Frame(first + k);
-    if (masks) loaded.mask = masks->MaskAt(loaded.frame.timestamp_s);
+    if (masks) {
+      loaded.mask = masks->MaskAt(loaded.frame.timestamp_s);
+      loaded.still = masks->StillObjectsAt(loaded.mask, loaded.frame.timestamp_s);
+    }
     return loaded;
   });
   for (size_t i = first; i < last; ++i) {
@@ -182,7 +189,15 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                        std::to_string(options.sensor.camera.height));
     }
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
-    if (masks) label_stats.Add(record.detected, record.keep, loaded.mask);
+    if (masks) {
+      label_stats.Add(record.detected, record.keep, loaded.mask);
+      moving_now_stats.Add(record.detected, record.keep, loaded.mask, loaded.still);
+      for (const auto& [cue, moving] : record.cue_flags) {
+        std::vector<bool> keep(moving.size());
+        for (size_t k = 0; k < moving.size(); ++k) keep[k] = !moving[k];
+        cue_stats[cue].Add(record.detected, keep, loaded.mask, loaded.still);
+      }
+    }
     if (!cli.overlays.empty()) {
       const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
       char name[32];
@@ -213,7 +228,23 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
   }
   nlohmann::json stats = BuildRunStats(system, inputs, ate);
-  if (masks) stats["dynamic_keypoints"] = label_stats.ToJson();
+  if (masks) {
+    stats["dynamic_keypoints"] = label_stats.ToJson();
+    if (masks->has_object_states()) {
+      nlohmann::json now = moving_now_stats.ToJson();
+      now["definition"] =
+          "as above, but keypoints on an object that stands still at that frame (objects.txt moving = 0: a person "
+          "who stopped, the desk item before it starts) are not counted";
+      stats["dynamic_keypoints"]["moving_now"] = now;
+    }
+    for (const auto& [cue, cue_labels] : cue_stats) {
+      const nlohmann::json all = cue_labels.ToJson();
+      stats["dynamic_keypoints"]["by_cue"][cue] = {{"flagged", all["true_positive"].get<long long>() +
+                                                                   all["false_positive"].get<long long>()},
+                                                  {"precision", all["precision"]},
+                                                  {"recall", all["recall"]}};
+    }
+  }
 
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());

@@ -95,4 +95,12 @@ std::vector<std::pair<std::string, double>> CombinedFilter::StageTimings() const
   return stages;
 }
 
+std::vector<std::pair<std::string, std::vector<bool>>> CombinedFilter::CueFlags() const {
+  std::vector<std::pair<std::string, std::vector<bool>>> cues;
+  for (const Part& part : parts_) {
+    for (auto& [cue, flags] : part.filter->CueFlags()) cues.emplace_back(part.label + "." + cue, std::move(flags));
+  }
+  return cues;
+}
+
 }  // namespace dynorb

@@ -356,4 +356,19 @@ std::vector<std::pair<std::string, double>> FastFilter::StageTimings() const {
           {"classify", timing_.cues_ms},   {"region", timing_.region_ms},  {"overlay", timing_.overlay_ms}};
 }
 
+std::vector<std::pair<std::string, std::vector<bool>>> FastFilter::CueFlags() const {
+  static const std::pair<const char*, FastCue> kCues[] = {
+      {"epipolar", kCueEpipolar}, {"direction", kCueDirection}, {"magnitude", kCueMagnitude},
+      {"residual", kCueResidual}, {"depth", kCueDepth},         {"seed", kCueSeed},
+      {"track", kCueTrack},       {"suspect", kCueSuspect},     {"region", kCueRegion},
+      {"mismatch", kCueMismatch}};
+  std::vector<std::pair<std::string, std::vector<bool>>> cues;
+  for (const auto& [name, bit] : kCues) {
+    std::vector<bool> flags(cue_bits_.size());
+    for (size_t i = 0; i < cue_bits_.size(); ++i) flags[i] = (cue_bits_[i] & bit) != 0;
+    cues.emplace_back(name, std::move(flags));
+  }
+  return cues;
+}
+
 }  // namespace dynorb

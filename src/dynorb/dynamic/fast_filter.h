@@ -79,6 +79,8 @@ class FastFilter : public KeypointFilter {
   FilterOutput Filter(const FilterInput& input) override;
 
   std::vector<std::pair<std::string, double>> StageTimings() const override;
+  // One entry per FastCue bit except kCueTracked ("epipolar", "direction", ..., "region").
+  std::vector<std::pair<std::string, std::vector<bool>>> CueFlags() const override;
   const FastTiming& timing() const { return timing_; }              // last frame
   const FastTiming& total_timing() const { return total_timing_; }  // sum over frames
   int frames() const { return frames_; }

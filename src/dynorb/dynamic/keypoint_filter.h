@@ -45,6 +45,10 @@ class KeypointFilter {
   // Milliseconds of each named stage of the last Filter() call (e.g. {"flow", 1.2}), for
   // stats.json's timing_ms.filter_stages. Stages that did not run that frame report 0.
   virtual std::vector<std::pair<std::string, double>> StageTimings() const { return {}; }
+  // Per named cue, which keypoints of the last Filter() call it flagged moving (one flag per
+  // keypoint), so that `dynorb run` can score every cue against ground-truth masks
+  // (stats.json dynamic_keypoints.by_cue). Filters without separate cues return nothing.
+  virtual std::vector<std::pair<std::string, std::vector<bool>>> CueFlags() const { return {}; }
   // True when FilterOutput::dynamic_mask covers every moving object the filter found, so that
   // the System may detect again outside it and spend the whole feature budget on the rest
   // (SystemOptions::refill_filtered). Filters whose misses are spread over the image (the FAST

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -36,46 +37,91 @@ struct Problem {
   int occupied = 0;       // cells holding any point
   const EgoMotionOptions* options;
 
-  std::vector<uint8_t> Inliers(const Rigid3d& pose, double gate) const {
-    std::vector<uint8_t> in(object.size(), 0);
+  std::vector<double> Residuals(const Rigid3d& pose) const {
+    std::vector<double> res(object.size(), std::numeric_limits<double>::infinity());
     const Eigen::Matrix3d r = pose.rotation.toRotationMatrix();
     for (size_t i = 0; i < object.size(); ++i) {
       const Eigen::Vector3d x = r * Eigen::Vector3d(object[i].x, object[i].y, object[i].z) + pose.translation;
       if (x.z() <= 1e-6) continue;
       const Eigen::Vector2d u = camera->Project(x);
-      in[i] = std::hypot(u.x() - image[i].x, u.y() - image[i].y) < gate;
+      res[i] = std::hypot(u.x() - image[i].x, u.y() - image[i].y);
     }
+    return res;
+  }
+
+  std::vector<uint8_t> Inliers(const Rigid3d& pose, double gate) const {
+    const std::vector<double> res = Residuals(pose);
+    std::vector<uint8_t> in(res.size(), 0);
+    for (size_t i = 0; i < res.size(); ++i) in[i] = res[i] < gate;
     return in;
   }
 
+  // Fraction of the occupied cells where the hypothesis explains most points (at least 2 and at
+  // least half of the cell's points): a motion that fits a few points everywhere does not count.
   double Coverage(const std::vector<uint8_t>& in) const {
-    std::vector<int> count(num_cells, 0);
-    for (size_t i = 0; i < in.size(); ++i) count[cell[i]] += in[i];
+    std::vector<int> count(num_cells, 0), total(num_cells, 0);
+    for (size_t i = 0; i < in.size(); ++i) {
+      count[cell[i]] += in[i];
+      ++total[cell[i]];
+    }
     int covered = 0;
-    for (int c : count) covered += c >= 2;
+    for (int c = 0; c < num_cells; ++c) covered += count[c] >= 2 && 2 * count[c] >= total[c];
     return occupied > 0 ? static_cast<double>(covered) / occupied : 0.0;
   }
 
-  // Shrinking-gate refinement; false when too few points support the estimate.
-  bool Refine(Rigid3d* pose, int* inliers) const {
-    *inliers = 0;
-    for (double gate : options->gates_px) {
-      const std::vector<uint8_t> in = Inliers(*pose, gate);
-      std::vector<cv::Point3f> obj_in;
-      std::vector<cv::Point2f> img_in;
-      for (size_t i = 0; i < in.size(); ++i) {
-        if (!in[i]) continue;
-        obj_in.push_back(object[i]);
-        img_in.push_back(image[i]);
-      }
-      if (static_cast<int>(obj_in.size()) < options->min_points) return *inliers > 0;
-      cv::Mat rvec, tvec;
-      ToRvecTvec(*pose, &rvec, &tvec);
-      if (!cv::solvePnP(obj_in, img_in, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) break;
-      *pose = FromRvecTvec(rvec, tvec);
-      *inliers = static_cast<int>(obj_in.size());
+  // Refit on the points within `gate`; false when fewer than min_points are.
+  bool Refit(double gate, Rigid3d* pose, int* inliers) const {
+    const std::vector<uint8_t> in = Inliers(*pose, gate);
+    std::vector<cv::Point3f> obj_in;
+    std::vector<cv::Point2f> img_in;
+    for (size_t i = 0; i < in.size(); ++i) {
+      if (!in[i]) continue;
+      obj_in.push_back(object[i]);
+      img_in.push_back(image[i]);
     }
-    return *inliers > 0;
+    if (static_cast<int>(obj_in.size()) < options->min_points) return false;
+    cv::Mat rvec, tvec;
+    ToRvecTvec(*pose, &rvec, &tvec);
+    if (!cv::solvePnP(obj_in, img_in, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) return false;
+    *pose = FromRvecTvec(rvec, tvec);
+    *inliers = static_cast<int>(obj_in.size());
+    return true;
+  }
+
+  // Robust spread (1.4826 × median) of the residuals below `gate`; infinity with too few.
+  double Sigma(const Rigid3d& pose, double gate) const {
+    std::vector<double> in;
+    for (double r : Residuals(pose)) {
+      if (r < gate) in.push_back(r);
+    }
+    if (static_cast<int>(in.size()) < options->min_points) return std::numeric_limits<double>::infinity();
+    std::nth_element(in.begin(), in.begin() + in.size() / 2, in.end());
+    return 1.4826 * in[in.size() / 2];
+  }
+
+  // Shrinking-gate refinement, then the adaptive gate; false when too few points support the
+  // estimate. *sigma: the final spread.
+  bool Refine(Rigid3d* pose, int* inliers, double* sigma) const {
+    *inliers = 0;
+    double last_gate = options->ransac_px;
+    bool shrunk = true;
+    for (double gate : options->gates_px) {
+      if (!Refit(gate, pose, inliers)) {
+        shrunk = false;
+        break;
+      }
+      last_gate = gate;
+    }
+    if (*inliers == 0) return false;
+    for (int it = 0; shrunk && it < options->adaptive_iterations; ++it) {
+      const double spread = Sigma(*pose, last_gate);
+      if (!std::isfinite(spread)) break;
+      const double gate = std::clamp(options->gate_sigmas * spread, options->min_gate_px, last_gate);
+      if (!Refit(gate, pose, inliers)) break;
+      last_gate = gate;
+    }
+    *sigma = Sigma(*pose, last_gate);
+    return true;
   }
 
   // PnP-RANSAC on the points with use[i] != 0.
@@ -135,7 +181,7 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     for (int c : problem.cell) ++count[c];
     for (int c : count) problem.occupied += c >= 2;
   }
-  const double final_gate = options.gates_px.empty() ? options.ransac_px : options.gates_px.back();
+  const double wide_gate = options.gates_px.empty() ? options.ransac_px : options.gates_px.back();
   // Seed hypotheses (priority order) and two RANSAC hypotheses: the dominant motion and the
   // dominant motion of its outliers.
   struct Hypothesis {
@@ -143,46 +189,69 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     int inliers = 0;
     double coverage = 0.0;
     int seed = -1;
+    double sigma = 0.0;
   };
   std::vector<Hypothesis> hypotheses;
-  for (size_t s = 0; s < seeds_prev_from_cur.size(); ++s) {
+  std::vector<Rigid3d> seeds = seeds_prev_from_cur;
+  const int identity_seed = options.try_identity ? static_cast<int>(seeds.size()) : -1;
+  if (options.try_identity) seeds.push_back(Rigid3d());
+  for (size_t s = 0; s < seeds.size(); ++s) {
     Hypothesis h;
-    h.pose = seeds_prev_from_cur[s];
+    h.pose = seeds[s];
     h.seed = static_cast<int>(s);
-    if (!problem.Refine(&h.pose, &h.inliers)) continue;
-    h.coverage = problem.Coverage(problem.Inliers(h.pose, final_gate));
+    if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) continue;
     hypotheses.push_back(h);
   }
   std::vector<uint8_t> use(problem.object.size(), 1);
   for (int r = 0; r < 2; ++r) {
     Hypothesis h;
     if (!problem.Ransac(use, &h.pose)) break;
-    if (!problem.Refine(&h.pose, &h.inliers)) break;
-    h.coverage = problem.Coverage(problem.Inliers(h.pose, final_gate));
+    if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) break;
     hypotheses.push_back(h);
     const std::vector<uint8_t> wide = problem.Inliers(h.pose, 2.0 * options.ransac_px);
     for (size_t i = 0; i < use.size(); ++i) use[i] = use[i] && !wide[i];
   }
   if (hypotheses.empty()) return result;
+  // One scoring gate for all: the best-fitting hypothesis sets the noise level.
+  double min_sigma = std::numeric_limits<double>::infinity();
+  for (const Hypothesis& h : hypotheses) min_sigma = std::min(min_sigma, h.sigma);
+  const double score_gate =
+      std::isfinite(min_sigma) ? std::clamp(options.gate_sigmas * min_sigma, options.min_gate_px, wide_gate) : wide_gate;
+  for (Hypothesis& h : hypotheses) {
+    const std::vector<uint8_t> in = problem.Inliers(h.pose, score_gate);
+    h.coverage = problem.Coverage(in);
+    h.inliers = static_cast<int>(std::count(in.begin(), in.end(), uint8_t{1}));
+  }
   double best_coverage = 0.0;
-  for (const Hypothesis& h : hypotheses) best_coverage = std::max(best_coverage, h.coverage);
-  // The first seed with enough support wins (it guards against a mover covering up to about half
-  // the image); otherwise the hypothesis covering most of the image.
+  int best_inliers = 0;
+  for (const Hypothesis& h : hypotheses) {
+    best_coverage = std::max(best_coverage, h.coverage);
+    best_inliers = std::max(best_inliers, h.inliers);
+  }
+  // The first seed with nearly the best support wins; otherwise the hypothesis covering most of
+  // the image.
   const Hypothesis* chosen = nullptr;
   for (const Hypothesis& h : hypotheses) {
-    if (h.seed >= 0 && h.coverage >= options.min_seed_coverage &&
-        h.coverage >= options.seed_coverage_ratio * best_coverage) {
+    if (h.seed >= 0 && h.seed != identity_seed && h.coverage >= options.min_seed_coverage &&
+        h.coverage >= options.seed_coverage_ratio * best_coverage &&
+        h.inliers >= options.seed_coverage_ratio * best_inliers) {
       chosen = &h;
       break;
     }
   }
   if (chosen == nullptr) {
     for (const Hypothesis& h : hypotheses) {
-      if (chosen == nullptr || h.coverage > chosen->coverage) chosen = &h;
+      // Coverage first (the static background is spread over the image), then inliers.
+      if (chosen == nullptr || h.coverage > chosen->coverage ||
+          (h.coverage == chosen->coverage && h.inliers > chosen->inliers)) {
+        chosen = &h;
+      }
     }
   }
   result.ok = true;
-  result.seed_index = chosen->seed;
+  result.seed_index = chosen->seed == identity_seed ? -2 : chosen->seed;
+  result.sigma_px = chosen->sigma;
+  result.gate_px = score_gate;
   result.prev_from_cur = chosen->pose;
   result.num_inliers = chosen->inliers;
   result.coverage = chosen->coverage;

@@ -94,6 +94,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
+    if (record_keypoints_) record.cue_flags = filter_->CueFlags();
     if (record_overlays_) record.filter_overlay = out.overlay;
     if (options_.refill_filtered && record.num_filtered > 0 && filter_->MaskCoversDetections()) {
       watch.Restart();
