@@ -17,6 +17,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_levels", &o.lk_levels, "LK pyramid levels above the base image")
       .Add("lk_iterations", &o.lk_iterations, "LK iterations per level")
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
+      .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
+           "forward-backward check only for points a cue flags moving (faster; same labels)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
       .Add("bf_best_fraction", &o.bf_best_fraction,

@@ -158,6 +158,23 @@ assert sum(r["state"] == "ok" for r in rows) == s["tracked_frames"]
 assert all(float(r["total_ms"]) > 0 and int(r["keypoints"]) > 0 for r in rows)
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
+# Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
+# (objects.txt), and per cue; the counts must add up.
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
+  fail "fast run on the cached sequence"
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$OUT/cache/walking_xyz_s3_f14" <<'EOF' || fail "keypoint label statistics"
+import json, os, sys
+d = json.load(open(sys.argv[1]))["dynamic_keypoints"]
+now, cues = d["moving_now"], d["by_cue"]
+total = lambda s: s["true_positive"] + s["false_positive"] + s["false_negative"] + s["true_negative"]
+assert total(now) + now["ignored"] == total(d), (now, d)
+assert now["true_positive"] + now["false_negative"] <= d["true_positive"] + d["false_negative"]
+assert {"epipolar", "direction", "magnitude", "residual", "depth", "seed", "track", "region"} <= set(cues), cues
+assert cues["seed"]["flagged"] <= now["true_positive"] + now["false_positive"], (cues["seed"], now)
+# Keypoints are ignored only when some object stands still (objects.txt moving = 0).
+still = [l for l in open(os.path.join(sys.argv[2], "objects.txt")) if not l.startswith("#") and l.split()[2] == "0"]
+assert still or now["ignored"] == 0, now
+EOF
 stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
 sleep 1
 run_bench --repeats 2 >"$DIR/run2.txt" 2>&1 || fail "run 2: $(cat "$DIR/run2.txt")"

@@ -31,8 +31,12 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, c.previous, status, error, window,
                            options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   std::vector<cv::Point2f> back = current;
-  cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status, error, window,
-                           options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  if (options.backward_check) {
+    cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status, error, window,
+                             options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  } else {
+    back_status.assign(n, 1);
+  }
   const cv::Size size = current_pyramid.empty() ? cv::Size() : current_pyramid[0].size();
   const double max2 = options.fb_max_px * options.fb_max_px;
   for (size_t i = 0; i < n; ++i) {
@@ -46,6 +50,34 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
     ++c.num_valid;
   }
   return c;
+}
+
+int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
+                  const std::vector<cv::Point2f>& current, const std::vector<int>& indices, const LkOptions& options,
+                  Correspondences* c) {
+  if (indices.empty()) return 0;
+  std::vector<cv::Point2f> from, back;
+  for (int i : indices) {
+    from.push_back(c->previous[i]);
+    back.push_back(current[i]);
+  }
+  std::vector<uint8_t> status;
+  std::vector<float> error;
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, from, back, status, error,
+                           cv::Size(options.window_px, options.window_px), options.levels, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  const double max2 = options.fb_max_px * options.fb_max_px;
+  int invalidated = 0;
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const int i = indices[k];
+    const cv::Point2f d = back[k] - current[i];
+    if (status[k] && d.x * d.x + d.y * d.y <= max2) continue;
+    if (c->valid[i]) --c->num_valid, ++invalidated;
+    c->valid[i] = 0;
+    c->for_f[i] = 0;
+  }
+  return invalidated;
 }
 
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,

@@ -2,7 +2,8 @@
 // entry per CURRENT keypoint (its position in the previous frame):
 //  a. TrackWithFlow: pyramidal Lucas–Kanade (OpenCV) from the current keypoints into the previous
 //     frame, optionally seeded with a predicted position, kept when the backward track returns
-//     within fb_max_px of the start (forward–backward check).
+//     within fb_max_px of the start (forward–backward check; or later, for a subset only:
+//     CheckBackward).
 //  b. MatchDescriptors: brute-force Hamming matching of the current ORB descriptors against the
 //     previous ones (mutual best, no ratio test); all matches are correspondences, and the best
 //     `best_fraction` by distance are marked for estimating F.
@@ -28,6 +29,7 @@ struct LkOptions {
   int levels = 3;
   int iterations = 20;
   double fb_max_px = 1.0;
+  bool backward_check = true;  // false: forward tracks only (CheckBackward later, on a subset)
 };
 
 // The LK image pyramid (with derivatives) of one frame; built once per frame and reused as the
@@ -38,6 +40,13 @@ std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& option
 Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
                               const std::vector<cv::Point2f>& current, const std::vector<cv::Point2f>& initial_previous,
                               const LkOptions& options);
+
+// The forward–backward check for the points listed in `indices` only: each is tracked back from
+// c->previous into the current frame and invalidated (valid = for_f = 0) when it does not return
+// within fb_max_px of `current`. Returns the number invalidated.
+int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
+                  const std::vector<cv::Point2f>& current, const std::vector<int>& indices, const LkOptions& options,
+                  Correspondences* c);
 
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
                                  const std::vector<cv::Point2f>& previous_points, int max_distance,

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <random>
 
+#include <opencv2/imgproc.hpp>
+
+#include "dynorb/dynamic/fast_correspondence.h"
 #include "dynorb/dynamic/fast_region.h"
 #include "dynorb/dynamic/motion_ego.h"
 #include "dynorb/geometry/two_view.h"
@@ -241,6 +244,48 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
   ASSERT_TRUE(ego.ok);
   EXPECT_LT(error(ego), 1e-4);
   EXPECT_LE(ego.gate_px, 0.5 + 1e-9);
+}
+
+// Forward tracks only, then the backward check on a subset: a track moved off its true position
+// fails the check and is invalidated; good tracks and points outside the subset are untouched.
+TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
+  cv::Mat noise(240, 320, CV_8U);
+  cv::randu(noise, 0, 255);
+  cv::Mat texture;
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
+  cv::resize(texture, texture, cv::Size(640, 480));
+  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
+  cv::Mat previous = texture, current;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);  // current = previous moved (3, 1)
+  cv::warpAffine(previous, current, shift, previous.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  LkOptions lk;
+  lk.backward_check = false;
+  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, lk), cur_pyr = BuildLkPyramid(current, lk);
+  std::vector<cv::Point2f> points;
+  for (int y = 60; y < 420; y += 40)
+    for (int x = 60; x < 580; x += 40) points.emplace_back(static_cast<float>(x), static_cast<float>(y));
+  Correspondences c = TrackWithFlow(prev_pyr, cur_pyr, points, {}, lk);
+  ASSERT_EQ(c.num_valid, static_cast<int>(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_NEAR(c.previous[i].x, points[i].x - 3.f, 0.1f);
+    EXPECT_NEAR(c.previous[i].y, points[i].y - 1.f, 0.1f);
+  }
+  // Corrupt every third track by 6 px; check the even indices only.
+  std::vector<int> subset;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (i % 3 == 0) c.previous[i] += cv::Point2f(6.f, -6.f);
+    if (i % 2 == 0) subset.push_back(static_cast<int>(i));
+  }
+  const int invalidated = CheckBackward(prev_pyr, cur_pyr, points, subset, lk, &c);
+  int expected = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const bool checked_bad = i % 3 == 0 && i % 2 == 0;
+    expected += checked_bad;
+    EXPECT_EQ(c.valid[i], checked_bad ? 0 : 1) << i;
+    EXPECT_EQ(c.for_f[i], checked_bad ? 0 : 1) << i;
+  }
+  EXPECT_EQ(invalidated, expected);
+  EXPECT_EQ(c.num_valid, static_cast<int>(points.size()) - expected);
 }
 
 TEST(WarpResidual, NoMotionAndDepthChange) {

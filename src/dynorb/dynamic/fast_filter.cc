@@ -55,6 +55,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   lk.levels = options_.lk_levels;
   lk.iterations = options_.lk_iterations;
   lk.fb_max_px = options_.lk_fb_max_px;
+  lk.backward_check = !options_.lk_fb_candidates_only;
   std::vector<cv::Mat> pyramid;
   cv::Mat descriptors;
   Correspondences corr;
@@ -181,19 +182,37 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
     // 4. Cues and fusion.
     watch.Restart();
     std::vector<CueVote> none(n, CueVote::kUnknown);
-    const std::vector<CueVote> epi = options_.use_epipolar && have_f
+    std::vector<CueVote> epi = options_.use_epipolar && have_f
                                          ? EpipolarCue(f21, p1, p2, valid, options_.epi_t1_px, options_.epi_t2_px)
                                          : none;
-    const std::vector<CueVote> dir =
+    std::vector<CueVote> dir =
         options_.use_direction && have_f
             ? DirectionCue(p1, p2, valid, static_ref, options_.direction_max_deg, options_.direction_min_flow_px)
             : none;
-    const std::vector<CueVote> mag =
+    std::vector<CueVote> mag =
         options_.use_magnitude ? MagnitudeCue(p1, p2, valid, options_.magnitude_sigmas, options_.magnitude_min_sigma_px,
                                               options_.magnitude_abs_diff_px)
                                : none;
     const std::vector<CueVote>& res = options_.use_residual ? warp.residual : none;
     const std::vector<CueVote>& dep = options_.use_depth ? warp.depth : none;
+    if (options_.method() == CorrespondenceMethod::kOpticalFlow && options_.lk_fb_candidates_only) {
+      // Forward–backward check for the points some cue calls moving; a failed track is no evidence.
+      std::vector<int> candidates;
+      for (size_t i = 0; i < n; ++i) {
+        if (valid[i] && (IsMoving(epi[i]) || IsMoving(dir[i]) || IsMoving(mag[i]) || IsMoving(res[i]) ||
+                         IsMoving(dep[i]))) {
+          candidates.push_back(static_cast<int>(i));
+        }
+      }
+      CheckBackward(previous_pyramid_, pyramid, p2, candidates, lk, &corr);
+      for (int i : candidates) {
+        if (valid[i]) continue;
+        epi[i] = dir[i] = mag[i] = warp.residual[i] = warp.depth[i] = CueVote::kUnknown;
+        warp.residual_px[i] = -1.f;
+        cue_bits_[i] &= static_cast<uint16_t>(~kCueTracked);
+      }
+      info_.num_tracked = corr.num_valid;
+    }
     std::vector<uint8_t> seed(n, 0), confident_static(n, 0);
     for (size_t i = 0; i < n; ++i) {
       if (!valid[i]) continue;

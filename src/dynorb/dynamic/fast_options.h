@@ -16,6 +16,8 @@ struct FastOptions {
   int lk_levels = 3;                     // LK pyramid levels above the base image
   int lk_iterations = 20;                // LK iterations per level
   double lk_fb_max_px = 1.0;             // forward-backward check: max return error (px)
+  bool lk_fb_candidates_only = true;      // backward-track only points a cue flags moving (the
+                                         // check keeps bad tracks from looking like movers)
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
   int bf_max_distance = 80;              // descriptors: max Hamming distance of a match

@@ -80,11 +80,24 @@ struct Problem {
       img_in.push_back(image[i]);
     }
     if (static_cast<int>(obj_in.size()) < options->min_points) return false;
+    *inliers = static_cast<int>(obj_in.size());
+    // An evenly strided subset is enough for 6 parameters and keeps the cost flat.
+    if (options->max_fit_points > 0 && static_cast<int>(obj_in.size()) > options->max_fit_points) {
+      const double stride = static_cast<double>(obj_in.size()) / options->max_fit_points;
+      for (int j = 0; j < options->max_fit_points; ++j) {
+        const size_t from = static_cast<size_t>(j * stride);
+        obj_in[j] = obj_in[from];
+        img_in[j] = img_in[from];
+      }
+      obj_in.resize(options->max_fit_points);
+      img_in.resize(options->max_fit_points);
+    }
     cv::Mat rvec, tvec;
     ToRvecTvec(*pose, &rvec, &tvec);
-    if (!cv::solvePnP(obj_in, img_in, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) return false;
+    cv::solvePnPRefineLM(obj_in, img_in, k, cv::noArray(), rvec, tvec,
+                         cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options->lm_iterations, 1e-8));
+    if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return false;
     *pose = FromRvecTvec(rvec, tvec);
-    *inliers = static_cast<int>(obj_in.size());
     return true;
   }
 
@@ -208,7 +221,12 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     if (!problem.Ransac(use, &h.pose)) break;
     if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) break;
     hypotheses.push_back(h);
-    const std::vector<uint8_t> wide = problem.Inliers(h.pose, 2.0 * options.ransac_px);
+    // Its own points: within 3 sigmas of its fit (2..2*ransac_px), so that a loosely fitting
+    // first hypothesis does not also swallow the second motion's points.
+    const double own = std::isfinite(h.sigma)
+                           ? std::clamp(options.gate_sigmas * h.sigma, wide_gate, 2.0 * options.ransac_px)
+                           : 2.0 * options.ransac_px;
+    const std::vector<uint8_t> wide = problem.Inliers(h.pose, own);
     for (size_t i = 0; i < use.size(); ++i) use[i] = use[i] && !wide[i];
   }
   if (hypotheses.empty()) return result;

@@ -38,6 +38,8 @@ struct EgoMotionOptions {
   double min_gate_px = 0.5;     // ... but at least this (px)
   int adaptive_iterations = 2;  // refits with the adaptive gate
   bool try_identity = true;     // also refine "the camera did not move"
+  int max_fit_points = 150;     // each refit uses at most this many inliers (evenly strided; 0: all)
+  int lm_iterations = 5;       // Levenberg–Marquardt iterations per refit
   int min_points = 12;          // fewer inliers: keep the previous estimate / fail
   double ransac_px = 3.0;       // PnP-RANSAC threshold (no prediction)
   int ransac_iterations = 200;  // PnP-RANSAC iterations (no prediction)
