@@ -40,9 +40,11 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
   const size_t n = input.keypoints ? input.keypoints->keypoints.size() : 0;
   FilterOutput out;
   out.keep.assign(n, true);
+  out.judged = false;  // Judged when any part judged.
   for (size_t p = 0; p < parts_.size(); ++p) {
     Stopwatch watch;
     FilterOutput part = parts_[p].filter->Filter(input);
+    out.judged = out.judged || part.judged;
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");

@@ -2,7 +2,8 @@
 // every filter keeps it. `dynorb run --mode fused` combines the semantic detector masks (they
 // catch a person who is momentarily still) with the FAST geometric cues (they catch movers the
 // detector does not know, such as a pushed box).
-// Dynamic masks are OR-ed; overlays are composed (each filter's drawing over the first's);
+// Dynamic masks are OR-ed; the frame is judged when any part judged it; overlays are composed
+// (each filter's drawing over the first's);
 // stage timings are prefixed with the part's label ("semantic.detector", "fast.flow", ...).
 // Every part sees the full frame and all keypoints, so each keeps its own temporal state.
 #pragma once

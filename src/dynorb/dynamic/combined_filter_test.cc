@@ -19,6 +19,7 @@ class BandFilter : public KeypointFilter {
       out.keep.push_back(!(k.pt.x >= x0_ && k.pt.x < x1_));
     out.dynamic_mask = cv::Mat::zeros(input.gray->size(), CV_8U);
     out.dynamic_mask.colRange(static_cast<int>(x0_), static_cast<int>(x1_)).setTo(255);
+    out.judged = judged;
     if (input.want_overlay) {
       out.overlay = input.bgr->clone();
       cv::rectangle(out.overlay, cv::Rect(static_cast<int>(x0_), 0, 4, 4), cv::Scalar(0, 0, 255),
@@ -30,6 +31,7 @@ class BandFilter : public KeypointFilter {
     return {{"work", ms_}};
   }
   int calls = 0;
+  bool judged = true;
 
  private:
   float x0_, x1_;
@@ -73,6 +75,21 @@ TEST(CombinedFilter, KeepsOnlyWhatEveryPartKeepsAndOrsTheMasks) {
   EXPECT_EQ(stages[2].first, "fast");
   EXPECT_EQ(stages[3], (std::pair<std::string, double>{"fast.work", 1.5}));
   EXPECT_NE(combined.name().find("band + band"), std::string::npos);
+}
+
+TEST(CombinedFilter, JudgedWhenAnyPartJudged) {
+  for (const bool second_judged : {false, true}) {
+    std::vector<CombinedFilter::Part> parts;
+    auto a = std::make_unique<BandFilter>(10.f, 20.f, 1.0);
+    auto b = std::make_unique<BandFilter>(30.f, 40.f, 1.0);
+    a->judged = false;
+    b->judged = second_judged;
+    parts.push_back({"a", std::move(a)});
+    parts.push_back({"b", std::move(b)});
+    CombinedFilter combined(std::move(parts));
+    Frame frame;
+    EXPECT_EQ(combined.Filter(frame.Input(false)).judged, second_judged);
+  }
 }
 
 TEST(CombinedFilter, OnlyInsideMaskDropsRemovalsOutsideThePartsRegion) {

@@ -328,6 +328,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   }
   if (!final_mask.empty()) out.dynamic_mask = final_mask;
 
+  out.judged = has_previous_;
   // Keep the current frame as the next frame's previous one.
   has_previous_ = true;
   previous_pyramid_ = std::move(pyramid);

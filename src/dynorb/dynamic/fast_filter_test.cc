@@ -171,9 +171,11 @@ TEST(FastFilter, FirstFrameKeepsEverythingAndOptionsValidate) {
   input.want_overlay = true;
   const FilterOutput first = filter.Filter(input);
   EXPECT_EQ(std::count(first.keep.begin(), first.keep.end(), true), set.size());
+  EXPECT_FALSE(first.judged);  // No previous frame: no evidence.
   // The same image again (no motion at all): nothing is dynamic.
   const FilterOutput second = filter.Filter(input);
   EXPECT_EQ(std::count(second.keep.begin(), second.keep.end(), true), set.size());
+  EXPECT_TRUE(second.judged);
   EXPECT_EQ(second.overlay.size(), bgr.size());
   EXPECT_GT(filter.timing().total_ms, 0.0);
   FastOptions bad;

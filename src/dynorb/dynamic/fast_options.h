@@ -60,7 +60,7 @@ struct FastOptions {
   double region_edge_rel = 0.03;
   double region_band_m = 0.3;         // max depth distance from the seed's depth
   int region_min_seeds = 2;           // seeds needed (1 when supported by the suspect map)
-  double region_max_static_ratio = 0.75;  // max static/(static+moving) tracked points in a region
+  double region_max_static_ratio = 0.4;   // max static/(static+moving) tracked points in a region
   double region_min_coherence = 0.6;  // seeds of a region must move alike (|mean m| / mean |m|)
   double region_max_area = 0.8;       // max region area as a fraction of the image
   int region_dilate_px = 6;           // dilation of the final mask (full-resolution px)

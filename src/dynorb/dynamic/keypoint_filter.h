@@ -35,6 +35,10 @@ struct FilterOutput {
   cv::Mat dynamic_mask;    // Optional CV_8U mask (255 = dynamic) for overlays and statistics.
   cv::Mat overlay;         // Optional BGR drawing of the filter's evidence (flow vectors, epipolar
                            // outliers, boxes), only when FilterInput::want_overlay.
+  // False when the filter could not judge this frame (the FAST cues on their first frame: no
+  // previous frame). The System does not initialize the map from such a frame: its unjudged
+  // keypoints would put the movers into the first keyframe.
+  bool judged = true;
 };
 
 class KeypointFilter {

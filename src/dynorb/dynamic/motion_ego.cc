@@ -205,47 +205,64 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     double sigma = 0.0;
   };
   std::vector<Hypothesis> hypotheses;
-  std::vector<Rigid3d> seeds = seeds_prev_from_cur;
-  const int identity_seed = options.try_identity ? static_cast<int>(seeds.size()) : -1;
-  if (options.try_identity) seeds.push_back(Rigid3d());
-  for (size_t s = 0; s < seeds.size(); ++s) {
+  const int num_predictions = static_cast<int>(seeds_prev_from_cur.size());
+  const int identity_seed = options.try_identity ? num_predictions : -1;
+  auto refine_seed = [&](const Rigid3d& start, int seed) {
     Hypothesis h;
-    h.pose = seeds[s];
-    h.seed = static_cast<int>(s);
-    if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) continue;
-    hypotheses.push_back(h);
+    h.pose = start;
+    h.seed = seed;
+    if (problem.Refine(&h.pose, &h.inliers, &h.sigma)) hypotheses.push_back(h);
+  };
+  // Scores every hypothesis at one gate: the best-fitting hypothesis sets the noise level.
+  double score_gate = wide_gate, best_coverage = 0.0;
+  int best_inliers = 0;
+  auto score_all = [&]() {
+    double min_sigma = std::numeric_limits<double>::infinity();
+    for (const Hypothesis& h : hypotheses) min_sigma = std::min(min_sigma, h.sigma);
+    score_gate = std::isfinite(min_sigma) ? std::clamp(options.gate_sigmas * min_sigma, options.min_gate_px, wide_gate)
+                                          : wide_gate;
+    best_coverage = 0.0;
+    best_inliers = 0;
+    for (Hypothesis& h : hypotheses) {
+      const std::vector<uint8_t> in = problem.Inliers(h.pose, score_gate);
+      h.coverage = problem.Coverage(in);
+      h.inliers = static_cast<int>(std::count(in.begin(), in.end(), uint8_t{1}));
+      best_coverage = std::max(best_coverage, h.coverage);
+      best_inliers = std::max(best_inliers, h.inliers);
+    }
+  };
+  for (int s = 0; s < num_predictions; ++s) {
+    // A prediction next to one already refined (the tracker's and the filter's own
+    // constant-velocity models usually agree) would refine to the same pose.
+    const Rigid3d& start = seeds_prev_from_cur[s];
+    const bool duplicate = std::any_of(hypotheses.begin(), hypotheses.end(), [&](const Hypothesis& h) {
+      return (h.pose.translation - start.translation).norm() < options.duplicate_seed_m &&
+             RotationAngleRad(h.pose.rotation * start.rotation.conjugate()) < options.duplicate_seed_rad;
+    });
+    if (!duplicate) refine_seed(start, s);
   }
-  std::vector<uint8_t> use(problem.object.size(), 1);
-  for (int r = 0; r < 2; ++r) {
-    Hypothesis h;
-    if (!problem.Ransac(use, &h.pose)) break;
-    if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) break;
-    hypotheses.push_back(h);
-    // Its own points: within 3 sigmas of its fit (2..2*ransac_px), so that a loosely fitting
-    // first hypothesis does not also swallow the second motion's points.
-    const double own = std::isfinite(h.sigma)
-                           ? std::clamp(options.gate_sigmas * h.sigma, wide_gate, 2.0 * options.ransac_px)
-                           : 2.0 * options.ransac_px;
-    const std::vector<uint8_t> wide = problem.Inliers(h.pose, own);
-    for (size_t i = 0; i < use.size(); ++i) use[i] = use[i] && !wide[i];
+  score_all();
+  // A prediction that fits to the noise floor (3 sigmas within min_gate_px) and explains nearly
+  // the whole image there needs no search.
+  if (best_coverage < options.skip_search_coverage || score_gate > options.min_gate_px) {
+    if (options.try_identity) refine_seed(Rigid3d(), identity_seed);
+    std::vector<uint8_t> use(problem.object.size(), 1);
+    for (int r = 0; r < 2; ++r) {
+      Hypothesis h;
+      if (!problem.Ransac(use, &h.pose)) break;
+      if (!problem.Refine(&h.pose, &h.inliers, &h.sigma)) break;
+      hypotheses.push_back(h);
+      // Its own points: within 3 sigmas of its fit (2..2*ransac_px), so that a loosely fitting
+      // first hypothesis does not also swallow the second motion's points.
+      const double own = std::isfinite(h.sigma)
+                             ? std::clamp(options.gate_sigmas * h.sigma, wide_gate, 2.0 * options.ransac_px)
+                             : 2.0 * options.ransac_px;
+      const std::vector<uint8_t> wide = problem.Inliers(h.pose, own);
+      for (size_t i = 0; i < use.size(); ++i) use[i] = use[i] && !wide[i];
+    }
+    score_all();
   }
   if (hypotheses.empty()) return result;
-  // One scoring gate for all: the best-fitting hypothesis sets the noise level.
-  double min_sigma = std::numeric_limits<double>::infinity();
-  for (const Hypothesis& h : hypotheses) min_sigma = std::min(min_sigma, h.sigma);
-  const double score_gate =
-      std::isfinite(min_sigma) ? std::clamp(options.gate_sigmas * min_sigma, options.min_gate_px, wide_gate) : wide_gate;
-  for (Hypothesis& h : hypotheses) {
-    const std::vector<uint8_t> in = problem.Inliers(h.pose, score_gate);
-    h.coverage = problem.Coverage(in);
-    h.inliers = static_cast<int>(std::count(in.begin(), in.end(), uint8_t{1}));
-  }
-  double best_coverage = 0.0;
-  int best_inliers = 0;
-  for (const Hypothesis& h : hypotheses) {
-    best_coverage = std::max(best_coverage, h.coverage);
-    best_inliers = std::max(best_inliers, h.inliers);
-  }
   // The first seed with nearly the best support wins; otherwise the hypothesis covering most of
   // the image.
   const Hypothesis* chosen = nullptr;

@@ -13,7 +13,9 @@
 // camera at rest (identity), and two PnP-RANSAC hypotheses (fixed seed: the dominant motion and
 // the dominant motion of its outliers). All are scored at one common gate (from the smallest
 // spread among them) by coverage: the fraction of the grid cells holding tracked points that hold
-// inliers. The first seed (not the camera at rest) whose coverage is at least min_seed_coverage
+// inliers. When a prediction alone fits to the noise floor (3 sigmas within min_gate_px) and covers
+// skip_search_coverage of the cells there, the camera-at-rest and RANSAC hypotheses are not tried
+// (they cost most of the time). The first seed (not the camera at rest) whose coverage is at least min_seed_coverage
 // and whose coverage and inlier count are at least seed_coverage_ratio × the best ones wins — on
 // a near-tie the prediction decides, so a mover about as large as the visible background cannot
 // capture the estimate; otherwise (start, lost, a prediction that follows a mover) the
@@ -48,6 +50,9 @@ struct EgoMotionOptions {
   double min_seed_coverage = 0.25;  // seed accepted if its inliers cover this fraction of cells
   double seed_coverage_ratio = 0.9;  // ... and coverage and inliers >= this fraction of the best
   int grid_cols = 8, grid_rows = 6;  // coverage grid
+  double skip_search_coverage = 0.6;  // a prediction covering this much: no identity/RANSAC search
+  double duplicate_seed_m = 0.002;    // a prediction this close to a refined one is not refined again
+  double duplicate_seed_rad = 0.001;  // (translation and rotation)
 };
 
 struct EgoMotionResult {

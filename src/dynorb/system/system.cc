@@ -90,6 +90,8 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
     if (out.keep.size() != keep.size())
       throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
+    // Never initialize the map from a frame the filter could not judge: withhold its keypoints.
+    if (!out.judged && tracker_.state() == TrackingState::kNotInitialized) keep.assign(keep.size(), false);
     record.timing.filter_ms = watch.ElapsedMs();
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;

@@ -96,6 +96,37 @@ TEST(System, RefillSpendsTheFeatureBudgetOutsideTheFilteredArea) {
   }
 }
 
+// Keeps everything but says it could not judge its first frame (like the FAST cues).
+class UnjudgedFirstFrameFilter : public KeypointFilter {
+ public:
+  std::string name() const override { return "unjudged-first"; }
+  FilterOutput Filter(const FilterInput& input) override {
+    FilterOutput out;
+    out.keep.assign(input.keypoints->keypoints.size(), true);
+    out.judged = calls_++ > 0;
+    return out;
+  }
+
+ private:
+  int calls_ = 0;
+};
+
+TEST(System, NeverInitializesFromAFrameTheFilterCouldNotJudge) {
+  FeatureWorld world(1);
+  cv::Mat gray = MakeSyntheticTexture(cv::Size(640, 480), 11), bgr;
+  cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
+  const cv::Mat depth(480, 640, CV_32F, cv::Scalar(2.f));
+  System system(Options(world, RunMode::kSequential), std::make_unique<UnjudgedFirstFrameFilter>());
+  const FrameRecord first = system.ProcessFrame(0.0, bgr, depth);
+  EXPECT_EQ(first.state, TrackingState::kNotInitialized);
+  EXPECT_EQ(first.num_filtered, first.num_keypoints);  // Withheld.
+  const FrameRecord second = system.ProcessFrame(1.0 / 30.0, bgr, depth);
+  EXPECT_EQ(second.state, TrackingState::kOk);
+  EXPECT_TRUE(second.new_keyframe);
+  EXPECT_EQ(second.num_filtered, 0);
+  EXPECT_EQ(system.KeyframeTrajectory().size(), 1u);
+}
+
 TEST(System, RejectsBadImages) {
   FeatureWorld world(1);
   System system(Options(world, RunMode::kSequential));
