@@ -19,6 +19,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
       .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
            "forward-backward check only for points a cue flags moving (faster; same labels)")
+      .Add("lk_max_points", &o.lk_max_points,
+           "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
       .Add("bf_best_fraction", &o.bf_best_fraction,

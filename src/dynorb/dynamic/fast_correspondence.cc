@@ -80,6 +80,39 @@ int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vecto
   return invalidated;
 }
 
+std::vector<int> SpreadSubset(const std::vector<cv::KeyPoint>& keypoints, cv::Size image, int max_points) {
+  const int n = static_cast<int>(keypoints.size());
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  if (max_points <= 0 || n <= max_points || image.width <= 0 || image.height <= 0) return all;
+  constexpr int kCols = 16, kRows = 12;
+  std::vector<std::vector<int>> cells(kCols * kRows);
+  for (int i = 0; i < n; ++i) {
+    const int cx = std::clamp(static_cast<int>(keypoints[i].pt.x * kCols / image.width), 0, kCols - 1);
+    const int cy = std::clamp(static_cast<int>(keypoints[i].pt.y * kRows / image.height), 0, kRows - 1);
+    cells[cy * kCols + cx].push_back(i);
+  }
+  for (auto& cell : cells) {
+    std::stable_sort(cell.begin(), cell.end(),
+                     [&keypoints](int a, int b) { return keypoints[a].response > keypoints[b].response; });
+  }
+  std::vector<int> chosen;
+  for (size_t round = 0; static_cast<int>(chosen.size()) < max_points; ++round) {
+    std::vector<int> this_round;
+    for (const auto& cell : cells) {
+      if (round < cell.size()) this_round.push_back(cell[round]);
+    }
+    if (this_round.empty()) break;
+    std::sort(this_round.begin(), this_round.end());
+    for (int i : this_round) {
+      if (static_cast<int>(chosen.size()) == max_points) break;
+      chosen.push_back(i);
+    }
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
                                  const std::vector<cv::Point2f>& previous_points, int max_distance,
                                  double best_fraction) {

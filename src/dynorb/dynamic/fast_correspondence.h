@@ -48,6 +48,11 @@ int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vecto
                   const std::vector<cv::Point2f>& current, const std::vector<int>& indices, const LkOptions& options,
                   Correspondences* c);
 
+// At most max_points keypoint indices spread over the image: the strongest keypoint of every cell
+// of a 16x12 grid first, then the second strongest of every cell, ... (ascending index order
+// within a round; deterministic). All indices when max_points <= 0 or there are fewer keypoints.
+std::vector<int> SpreadSubset(const std::vector<cv::KeyPoint>& keypoints, cv::Size image, int max_points);
+
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
                                  const std::vector<cv::Point2f>& previous_points, int max_distance,
                                  double best_fraction);

@@ -288,6 +288,23 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
   EXPECT_EQ(c.num_valid, static_cast<int>(points.size()) - expected);
 }
 
+TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {
+  std::vector<cv::KeyPoint> keypoints;
+  // Cell (0, 0) of the 16x12 grid on 640x480 (40x40 px): three keypoints; three other cells: one each.
+  keypoints.emplace_back(cv::Point2f(5.f, 5.f), 7.f, -1.f, 10.f);    // 0
+  keypoints.emplace_back(cv::Point2f(15.f, 5.f), 7.f, -1.f, 30.f);   // 1 strongest of cell (0, 0)
+  keypoints.emplace_back(cv::Point2f(25.f, 5.f), 7.f, -1.f, 20.f);   // 2
+  keypoints.emplace_back(cv::Point2f(600.f, 5.f), 7.f, -1.f, 1.f);   // 3
+  keypoints.emplace_back(cv::Point2f(5.f, 470.f), 7.f, -1.f, 1.f);   // 4
+  keypoints.emplace_back(cv::Point2f(320.f, 240.f), 7.f, -1.f, 1.f); // 5
+  const cv::Size image(640, 480);
+  EXPECT_EQ(SpreadSubset(keypoints, image, 0).size(), keypoints.size());   // 0: all
+  EXPECT_EQ(SpreadSubset(keypoints, image, 10).size(), keypoints.size());  // fewer than the cap
+  EXPECT_EQ(SpreadSubset(keypoints, image, 4), (std::vector<int>{1, 3, 4, 5}));  // one per cell first
+  EXPECT_EQ(SpreadSubset(keypoints, image, 5), (std::vector<int>{1, 2, 3, 4, 5}));  // then the second best
+  EXPECT_EQ(SpreadSubset(keypoints, image, 2), (std::vector<int>{1, 3}));  // first round, by index
+}
+
 TEST(WarpResidual, NoMotionAndDepthChange) {
   const PinholeCamera camera = Camera();
   const cv::Mat depth = PlaneDepth(2.f);

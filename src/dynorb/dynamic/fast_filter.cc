@@ -77,7 +77,26 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
           if (!camera_.InImage(Eigen::Vector2d(initial[i].x, initial[i].y))) initial[i] = p2[i];
         }
       }
-      corr = TrackWithFlow(previous_pyramid_, pyramid, p2, initial, lk);
+      const std::vector<int> subset = SpreadSubset(keypoints, input.gray->size(), options_.lk_max_points);
+      if (subset.size() == n) {
+        corr = TrackWithFlow(previous_pyramid_, pyramid, p2, initial, lk);
+      } else {
+        std::vector<cv::Point2f> sub_p2, sub_initial;
+        for (int i : subset) {
+          sub_p2.push_back(p2[i]);
+          if (!initial.empty()) sub_initial.push_back(initial[i]);
+        }
+        const Correspondences sub = TrackWithFlow(previous_pyramid_, pyramid, sub_p2, sub_initial, lk);
+        corr.previous = initial.empty() ? p2 : initial;
+        corr.valid.assign(n, 0);
+        corr.for_f.assign(n, 0);
+        for (size_t k = 0; k < subset.size(); ++k) {
+          corr.previous[subset[k]] = sub.previous[k];
+          corr.valid[subset[k]] = sub.valid[k];
+          corr.for_f[subset[k]] = sub.for_f[k];
+        }
+        corr.num_valid = sub.num_valid;
+      }
     }
   } else {
     descriptors = extractor_.Describe(*input.keypoints);

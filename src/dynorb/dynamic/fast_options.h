@@ -18,6 +18,8 @@ struct FastOptions {
   double lk_fb_max_px = 1.0;             // forward-backward check: max return error (px)
   bool lk_fb_candidates_only = true;      // backward-track only points a cue flags moving (the
                                          // check keeps bad tracks from looking like movers)
+  int lk_max_points = 400;               // track at most this many keypoints, spread over the
+                                         // image (0: all); the others are judged by regions
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
   int bf_max_distance = 80;              // descriptors: max Hamming distance of a match
