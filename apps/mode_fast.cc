@@ -26,6 +26,7 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("bf_best_fraction", &o.bf_best_fraction,
            "descriptors: fraction of best matches used for F")
       .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")
+      .Add("bf_max_ratio", &o.bf_max_ratio, "descriptors: Lowe ratio test, best/second best (1: off)")
       .Add("use_epipolar", &o.use_epipolar, "epipolar-distance cue")
       .Add("f_ransac_px", &o.f_ransac_px, "RANSAC inlier threshold for F (px)")
       .Add("f_confidence", &o.f_confidence, "RANSAC confidence for F")
@@ -49,6 +50,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("residual_px", &o.residual_px,
            "warp residual above this (+ residual_rel * flow): moving")
       .Add("residual_rel", &o.residual_rel, "fraction of the flow length added to residual_px")
+      .Add("residual_mismatch_px", &o.residual_mismatch_px,
+           "warp residual above this: a wrong correspondence, no evidence")
       .Add("use_depth", &o.use_depth, "depth-consistency cue")
       .Add("depth_abs_m", &o.depth_abs_m, "depth tolerance: abs + rel * z^2 (m)")
       .Add("depth_rel", &o.depth_rel, "depth tolerance: rel (1/m)")

@@ -115,21 +115,23 @@ std::vector<int> SpreadSubset(const std::vector<cv::KeyPoint>& keypoints, cv::Si
 
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
                                  const std::vector<cv::Point2f>& previous_points, int max_distance,
-                                 double best_fraction) {
+                                 double best_fraction, double max_ratio) {
   Correspondences c;
   const size_t n = static_cast<size_t>(current_descriptors.rows);
   c.valid.assign(n, 0);
   c.for_f.assign(n, 0);
   c.previous.assign(n, cv::Point2f(0.f, 0.f));
+  c.previous_index.assign(n, -1);
   if (n == 0 || previous_descriptors.rows == 0) return c;
   BruteForceMatchOptions options;
   options.max_distance = max_distance;
-  options.max_ratio = 1.0;
+  options.max_ratio = max_ratio;
   options.mutual_check = true;
   std::vector<DescriptorMatch> matches = MatchBruteForce(current_descriptors, previous_descriptors, options);
   for (const DescriptorMatch& m : matches) {
     c.valid[m.query_index] = 1;
     c.previous[m.query_index] = previous_points[m.train_index];
+    c.previous_index[m.query_index] = m.train_index;
     ++c.num_valid;
   }
   // Best fraction by distance (ties by index: deterministic) for F.

@@ -5,7 +5,7 @@
 //     within fb_max_px of the start (forward–backward check; or later, for a subset only:
 //     CheckBackward).
 //  b. MatchDescriptors: brute-force Hamming matching of the current ORB descriptors against the
-//     previous ones (mutual best, no ratio test); all matches are correspondences, and the best
+//     previous ones (mutual best, optional ratio test); all matches are correspondences, and the best
 //     `best_fraction` by distance are marked for estimating F.
 // Pure functions; thread-safe.
 #pragma once
@@ -21,6 +21,7 @@ struct Correspondences {
   std::vector<cv::Point2f> previous;  // position in the previous frame, per current keypoint
   std::vector<uint8_t> valid;         // 1 = tracked / matched
   std::vector<uint8_t> for_f;         // 1 = used to estimate the fundamental matrix
+  std::vector<int> previous_index;    // descriptors: the matched previous keypoint (-1: none; empty for flow)
   int num_valid = 0;
 };
 
@@ -53,8 +54,9 @@ int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vecto
 // within a round; deterministic). All indices when max_points <= 0 or there are fewer keypoints.
 std::vector<int> SpreadSubset(const std::vector<cv::KeyPoint>& keypoints, cv::Size image, int max_points);
 
+// max_ratio: Lowe's ratio test (best < max_ratio × second best; 1 disables it).
 Correspondences MatchDescriptors(const cv::Mat& current_descriptors, const cv::Mat& previous_descriptors,
                                  const std::vector<cv::Point2f>& previous_points, int max_distance,
-                                 double best_fraction);
+                                 double best_fraction, double max_ratio = 1.0);
 
 }  // namespace dynorb

@@ -156,8 +156,13 @@ WarpResidualResult WarpResidualCue(const PinholeCamera& camera, const Rigid3d& p
     }
     out.residual_px[i] = static_cast<float>(best);
     const double flow = std::hypot(p2[i].x - p1[i].x, p2[i].y - p1[i].y);
+    if (best > options.mismatch_px) {
+      out.residual[i] = CueVote::kMismatch;  // and no depth vote either: the correspondence is wrong
+      continue;
+    }
+    const double scale = options.tolerance_scale != nullptr ? (*options.tolerance_scale)[i] : 1.0;
     out.residual[i] =
-        best > options.residual_px + options.residual_rel * flow ? CueVote::kMoving : CueVote::kStatic;
+        best > scale * options.residual_px + options.residual_rel * flow ? CueVote::kMoving : CueVote::kStatic;
     if (depth_prev.empty()) continue;
     const DepthSample zp = SampleDepth(depth_prev, p1[i], options.max_depth_m);
     if (zp.center <= 0.f) continue;

@@ -66,6 +66,10 @@ inline cv::Point2f WarpToPrevious(const PinholeCamera& camera, const Rigid3d& pr
 struct WarpResidualOptions {
   double residual_px = 2.5;   // moving if residual > residual_px + residual_rel·|flow|
   double residual_rel = 0.08;
+  double mismatch_px = 1e9;   // residual above this: a wrong correspondence, no evidence (kMismatch)
+  // Optional, per point: residual_px is multiplied by it (keypoint positions from coarse pyramid
+  // levels are less precise than tracked ones).
+  const std::vector<float>* tolerance_scale = nullptr;
   double depth_abs_m = 0.03;  // depth moving if |z_pred − z_prev| > abs + rel·z² (3×3 min)
   double depth_rel = 0.01;
   float max_depth_m = 8.f;

@@ -323,6 +323,29 @@ TEST(WarpResidual, NoMotionAndDepthChange) {
 }
 
 // Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
+// Per-point tolerance (matched keypoints from coarse pyramid levels) and the mismatch bound.
+TEST(WarpResidual, ToleranceScaleAndMismatch) {
+  const PinholeCamera camera = Camera();
+  const cv::Mat depth = PlaneDepth(2.f);
+  // No camera motion; the "previous" positions are off by 0, 2, 2 and 60 px.
+  const std::vector<cv::Point2f> p2 = {{100.f, 100.f}, {200.f, 100.f}, {300.f, 100.f}, {400.f, 100.f}};
+  const std::vector<cv::Point2f> p1 = {{100.f, 100.f}, {202.f, 100.f}, {302.f, 100.f}, {460.f, 100.f}};
+  const std::vector<uint8_t> valid(4, 1);
+  WarpResidualOptions o;
+  o.residual_px = 1.2;
+  o.residual_rel = 0.0;
+  o.mismatch_px = 40.0;
+  const std::vector<float> scale = {1.f, 1.f, 2.0736f, 1.f};  // third point: level 4 of 1.2
+  o.tolerance_scale = &scale;
+  const WarpResidualResult r = WarpResidualCue(camera, Rigid3d(), p1, p2, valid, depth, depth, o);
+  EXPECT_EQ(static_cast<int>(r.residual[0]), static_cast<int>(CueVote::kStatic));
+  EXPECT_EQ(static_cast<int>(r.residual[1]), static_cast<int>(CueVote::kMoving));
+  EXPECT_EQ(static_cast<int>(r.residual[2]), static_cast<int>(CueVote::kStatic));  // 2 px < 1.2 * 2.07
+  EXPECT_EQ(static_cast<int>(r.residual[3]), static_cast<int>(CueVote::kMismatch));
+  EXPECT_EQ(static_cast<int>(r.depth[3]), static_cast<int>(CueVote::kUnknown));  // no evidence at all
+  EXPECT_NEAR(r.residual_px[3], 60.f, 1e-3f);
+}
+
 TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
   cv::Mat depth = PlaneDepth(3.f);
   const cv::Rect person(200, 100, 120, 300);

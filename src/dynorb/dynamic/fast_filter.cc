@@ -102,7 +102,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
     descriptors = extractor_.Describe(*input.keypoints);
     if (has_previous_) {
       corr = MatchDescriptors(descriptors, previous_descriptors_, previous_points_, options_.bf_max_distance,
-                              options_.bf_best_fraction);
+                              options_.bf_best_fraction, options_.bf_max_ratio);
     }
   }
   timing_.flow_ms = watch.ElapsedMs();
@@ -140,6 +140,20 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
       WarpResidualOptions wo;
       wo.residual_px = options_.residual_px;
       wo.residual_rel = options_.residual_rel;
+      wo.mismatch_px = options_.residual_mismatch_px;
+      // Matched keypoint positions are only as precise as their pyramid level (both frames).
+      std::vector<float> level_scale;
+      if (!corr.previous_index.empty()) {
+        level_scale.assign(n, 1.f);
+        const double f = extractor_.options().scale_factor;
+        for (size_t i = 0; i < n; ++i) {
+          const int j = corr.previous_index[i];
+          if (j < 0) continue;
+          const int octave = std::max(keypoints[i].octave, previous_keypoints_[j].octave);
+          level_scale[i] = static_cast<float>(std::pow(f, std::max(0, octave)));
+        }
+        wo.tolerance_scale = &level_scale;
+      }
       wo.depth_abs_m = options_.depth_abs_m;
       wo.depth_rel = options_.depth_rel;
       wo.max_depth_m = max_depth;
@@ -238,7 +252,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
       uint16_t bits = 0;
       double score = 0.0;
       if (IsMoving(epi[i])) bits |= kCueEpipolar, score += options_.weight_epipolar;
-      if (epi[i] == CueVote::kMismatch) bits |= kCueMismatch;
+      if (epi[i] == CueVote::kMismatch || res[i] == CueVote::kMismatch) bits |= kCueMismatch;
       if (IsMoving(dir[i])) bits |= kCueDirection, score += options_.weight_direction;
       if (IsMoving(mag[i])) bits |= kCueMagnitude, score += options_.weight_magnitude;
       if (IsMoving(res[i])) bits |= kCueResidual, score += options_.weight_residual;

@@ -57,7 +57,7 @@ enum FastCue : uint16_t {
   kCueSuspect = 1 << 7,    // inside the temporal suspect map
   kCueRegion = 1 << 8,     // inside a grown dynamic region
   kCueTracked = 1 << 9,    // had a correspondence (not a vote)
-  kCueMismatch = 1 << 10,  // epipolar distance >= t2
+  kCueMismatch = 1 << 10,  // epipolar distance >= t2 or warp residual >= residual_mismatch_px
 };
 
 // Per-frame diagnostics.

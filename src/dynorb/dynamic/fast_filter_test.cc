@@ -42,8 +42,8 @@ class FastFilterSequence : public ::testing::Test {
       f.depth_u16.convertTo(frame.depth_m, CV_32F, 1.0 / 5000.0);
       frame.mask = f.mask;
       frame.still = cv::Mat::zeros(f.mask.size(), CV_8U);
-      for (const synth::ObjectState& o : f.objects) {
-        if (!o.moving) frame.still.setTo(255, f.mask == o.id);
+      for (const synth::ObjectState& object : f.objects) {
+        if (!object.moving) frame.still.setTo(255, f.mask == object.id);
       }
       frame.world_from_cam = f.world_from_cam;
       frames_->push_back(frame);
@@ -153,10 +153,11 @@ TEST_F(FastFilterSequence, DescriptorCorrespondencesWork) {
   const Result r = Run(options);
   std::printf("descriptors: tp %lld fp %lld fn %lld precision %.3f recall %.3f\n", r.tp, r.fp, r.fn, r.precision(),
               r.recall());
-  // Regression floors (measured 0.039 / 0.97: brute-force matches are too noisy for the residual
-  // cue as tuned for flow, nearly everything is removed; see docs/fast_mode.md).
-  EXPECT_GE(r.recall(), 0.5);
-  EXPECT_GE(r.precision(), 0.02);
+  // Regression floors (measured 0.081 / 0.27 on this 24-frame clip; matched keypoint positions
+  // are only as precise as their pyramid level, so descriptors find fewer movers than flow here;
+  // 300-frame numbers in docs/fast_mode.md).
+  EXPECT_GE(r.recall(), 0.2);
+  EXPECT_GE(r.precision(), 0.05);
 }
 
 TEST(FastFilter, FirstFrameKeepsEverythingAndOptionsValidate) {

@@ -23,6 +23,7 @@ struct FastOptions {
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
   int bf_max_distance = 80;              // descriptors: max Hamming distance of a match
+  double bf_max_ratio = 0.8;             // descriptors: Lowe ratio best/second best (1: no test)
   // --- 2./3. Fundamental matrix (RANSAC) and epipolar distance.
   bool use_epipolar = true;          // epipolar cue on/off
   double f_ransac_px = 1.0;          // RANSAC inlier threshold for F (px)
@@ -44,6 +45,7 @@ struct FastOptions {
   bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
   double residual_px = 1.2;           // reprojection residual above this: moving
   double residual_rel = 0.05;         // ... plus this fraction of the flow length
+  double residual_mismatch_px = 40.0;  // residual above this: a wrong correspondence, no evidence
   bool use_depth = true;              // depth-consistency cue on/off
   double depth_abs_m = 0.03;          // depth change tolerance: abs + rel * z^2
   double depth_rel = 0.01;            // (Kinect-like noise grows with z^2)
