@@ -10,6 +10,8 @@ namespace dynorb {
 
 class FastModeFactory : public RunModeFactory {
  public:
+  // defaults: the values the `fast:` keys take when the configuration does not set them.
+  explicit FastModeFactory(const FastOptions& defaults = FastOptions()) : options_(defaults) {}
   void BindConfig(ConfigSchema* schema) override;  // The `fast:` section.
   std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override;
 
