@@ -69,16 +69,20 @@ struct Problem {
     return occupied > 0 ? static_cast<double>(covered) / occupied : 0.0;
   }
 
+  // The 3D points and their previous pixels where selected[i] != 0.
+  void Select(const std::vector<uint8_t>& selected, std::vector<cv::Point3f>* obj, std::vector<cv::Point2f>* img) const {
+    for (size_t i = 0; i < selected.size(); ++i) {
+      if (!selected[i]) continue;
+      obj->push_back(object[i]);
+      img->push_back(image[i]);
+    }
+  }
+
   // Refit on the points within `gate`; false when fewer than min_points are.
   bool Refit(double gate, Rigid3d* pose, int* inliers) const {
-    const std::vector<uint8_t> in = Inliers(*pose, gate);
     std::vector<cv::Point3f> obj_in;
     std::vector<cv::Point2f> img_in;
-    for (size_t i = 0; i < in.size(); ++i) {
-      if (!in[i]) continue;
-      obj_in.push_back(object[i]);
-      img_in.push_back(image[i]);
-    }
+    Select(Inliers(*pose, gate), &obj_in, &img_in);
     if (static_cast<int>(obj_in.size()) < options->min_points) return false;
     *inliers = static_cast<int>(obj_in.size());
     // An evenly strided subset is enough for 6 parameters and keeps the cost flat.
@@ -141,11 +145,7 @@ struct Problem {
   bool Ransac(const std::vector<uint8_t>& use, Rigid3d* pose) const {
     std::vector<cv::Point3f> obj;
     std::vector<cv::Point2f> img;
-    for (size_t i = 0; i < use.size(); ++i) {
-      if (!use[i]) continue;
-      obj.push_back(object[i]);
-      img.push_back(image[i]);
-    }
+    Select(use, &obj, &img);
     if (static_cast<int>(obj.size()) < options->min_points) return false;
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
