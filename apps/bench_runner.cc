@@ -10,6 +10,7 @@
 #include <set>
 
 #include "bench_plots.h"
+#include "build_id.h"
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/synth/camera_motion.h"
@@ -242,10 +243,13 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
         {"sequence", seq.name},        {"mode", run.mode->label},
         {"mode_name", run.mode->name}, {"seed", run.seed},
         {"repeat", run.repeat},        {"dir", fs::relative(run.out_dir, out).string()}};
-    if (fs::exists(stats_path)) {
+    // Resume only results of this very executable; an older build's are run again.
+    nlohmann::json previous;
+    if (fs::exists(stats_path)) previous = ReadJsonFile(stats_path);
+    if (previous.is_object() && previous.value("build_id", "") == BuildId()) {
       entry["status"] = "ok";
       entry["resumed"] = true;
-      entry["stats"] = ReadJsonFile(stats_path);
+      entry["stats"] = std::move(previous);
       ++skipped;
     } else {
       RunRequest request;

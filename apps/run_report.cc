@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "build_id.h"
 #include "dynorb/core/stats.h"
 
 namespace dynorb {
@@ -83,6 +84,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["dataset"] = inputs.dataset;
   j["config"] = inputs.config;
   j["mode"] = inputs.mode;
+  j["build_id"] = BuildId();
   j["run_mode"] = inputs.run_mode;
   j["seed"] = inputs.seed;
   j["first_frame"] = inputs.first_frame;

@@ -175,6 +175,18 @@ assert cues["seed"]["flagged"] <= now["true_positive"] + now["false_positive"], 
 still = [l for l in open(os.path.join(sys.argv[2], "objects.txt")) if not l.startswith("#") and l.split()[2] == "0"]
 assert still or now["ignored"] == 0, now
 EOF
+# A result written by another build is run again, not resumed.
+/usr/bin/python3 - "$OUT/runs/syn_twin/plain/seed1/stats.json" <<'EOF' || fail "rewrite build_id"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["build_id"].startswith("fnv1a64:"), s["build_id"]
+s["build_id"] = "fnv1a64:0000000000000000"
+json.dump(s, open(sys.argv[1], "w"))
+EOF
+run_bench >"$DIR/run1b.txt" 2>&1 || fail "run 1b: $(cat "$DIR/run1b.txt")"
+grep -qF "runs: 2 (1 resumed, 0 failed)" "$DIR/run1b.txt" || fail "older build resumed: $(cat "$DIR/run1b.txt")"
+! grep -qF 'fnv1a64:0000000000000000' "$OUT/runs/syn_twin/plain/seed1/stats.json" ||
+  fail "the older build's stats.json was kept"
 stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
 sleep 1
 run_bench --repeats 2 >"$DIR/run2.txt" 2>&1 || fail "run 2: $(cat "$DIR/run2.txt")"
