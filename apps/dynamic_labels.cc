@@ -75,6 +75,16 @@ void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const s
                              const cv::Mat& mask, const cv::Mat& ignore) {
   if (mask.empty()) return;
   long long tp = 0, fp = 0, fn = 0;
+  cv::Mat near;  // Pixels within kBoundaryPx of a counted object pixel (built on the first false positive).
+  auto near_object = [&](int x, int y) {
+    if (near.empty()) {
+      cv::Mat objects = mask != 0;
+      if (!ignore.empty()) objects.setTo(0, ignore != 0);
+      cv::dilate(objects, near,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBoundaryPx + 1, 2 * kBoundaryPx + 1)));
+    }
+    return near.at<uint8_t>(y, x) != 0;
+  };
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const int x = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.x)), 0, mask.cols - 1);
     const int y = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.y)), 0, mask.rows - 1);
@@ -85,7 +95,10 @@ void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const s
     const bool truth = mask.at<uint8_t>(y, x) != 0;
     const bool predicted = !keep.empty() && !keep[i];
     if (predicted && truth) ++tp;
-    if (predicted && !truth) ++fp;
+    if (predicted && !truth) {
+      ++fp;
+      fp_near_ += near_object(x, y) ? 1 : 0;
+    }
     if (!predicted && truth) ++fn;
     if (!predicted && !truth) ++tn_;
   }
@@ -105,6 +118,8 @@ nlohmann::json KeypointLabelStats::ToJson() const {
           {"false_negative", fn_},
           {"true_negative", tn_},
           {"ignored", ignored_},
+          {"false_positive_within_3px", fp_near_},
+          {"precision_within_3px", ratio(tp_ + fp_near_, tp_ + fp_)},
           {"precision", ratio(tp_, tp_ + fp_)},
           {"recall", ratio(tp_, tp_ + fn_)},
           {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},
@@ -112,7 +127,8 @@ nlohmann::json KeypointLabelStats::ToJson() const {
           {"mean_frame_recall", Summarize(frame_recall_).mean},
           {"definition",
            "positive = keypoint removed as dynamic; truth = keypoint on a pixel of a moving-object mask (id != 0); "
-           "totals over all frames with masks"}};
+           "totals over all frames with masks; precision_within_3px also counts a removed keypoint within 3 px of "
+           "an object (its FAST circle touches the object's outline) as correct"}};
 }
 
 cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,

@@ -45,7 +45,10 @@ class KeypointLabelStats {
   nlohmann::json ToJson() const;
 
  private:
-  long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0, ignored_ = 0;
+  // A removed keypoint off the object but within this many px of it: its FAST circle (radius 3)
+  // touches the object, so its corner may be the object's outline (counted separately).
+  static constexpr int kBoundaryPx = 3;
+  long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0, ignored_ = 0, fp_near_ = 0;
   std::vector<double> frame_precision_, frame_recall_;
   int frames_ = 0;
 };

@@ -171,6 +171,9 @@ assert total(now) + now["ignored"] == total(d), (now, d)
 assert now["true_positive"] + now["false_negative"] <= d["true_positive"] + d["false_negative"]
 assert {"epipolar", "direction", "magnitude", "residual", "depth", "seed", "track", "region"} <= set(cues), cues
 assert cues["seed"]["flagged"] <= now["true_positive"] + now["false_positive"], (cues["seed"], now)
+for stats in (d, now):
+    assert 0 <= stats["false_positive_within_3px"] <= stats["false_positive"], stats
+    assert stats["precision_within_3px"] >= stats["precision"], stats
 # Keypoints are ignored only when some object stands still (objects.txt moving = 0).
 still = [l for l in open(os.path.join(sys.argv[2], "objects.txt")) if not l.startswith("#") and l.split()[2] == "0"]
 assert still or now["ignored"] == 0, now
