@@ -76,15 +76,6 @@ void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
   if (ec) throw InputError("cannot move " + temp + " to " + seq.dataset + ": " + ec.message());
 }
 
-nlohmann::json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path + ": not valid JSON (" + e.what() + ")");
-  }
-}
-
 nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& seeds) {
   nlohmann::json j;
   j["name"] = plan.suite.name;
@@ -243,10 +234,17 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
         {"sequence", seq.name},        {"mode", run.mode->label},
         {"mode_name", run.mode->name}, {"seed", run.seed},
         {"repeat", run.repeat},        {"dir", fs::relative(run.out_dir, out).string()}};
-    // Resume only results of this very executable; an older build's are run again.
+    // Resume only results of this very executable; an older build's (or an unreadable
+    // stats.json) are run again.
     nlohmann::json previous;
-    if (fs::exists(stats_path)) previous = ReadJsonFile(stats_path);
-    if (previous.is_object() && previous.value("build_id", "") == BuildId()) {
+    if (fs::exists(stats_path)) {
+      std::ifstream in(stats_path);
+      previous = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    }
+    const auto id = previous.is_object() ? previous.find("build_id") : previous.end();
+    const bool same_build = BuildId() != kUnknownBuildId && previous.is_object() && id != previous.end() &&
+                            id->is_string() && id->get<std::string>() == BuildId();
+    if (same_build) {
       entry["status"] = "ok";
       entry["resumed"] = true;
       entry["stats"] = std::move(previous);

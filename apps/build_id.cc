@@ -10,15 +10,22 @@ namespace {
 
 std::string ComputeBuildId() {
   std::ifstream in("/proc/self/exe", std::ios::binary);
-  if (!in) return "unknown";
+  if (!in) return kUnknownBuildId;
+  // FNV-1a over 8-byte words (the debug binary is ~100 MB; bytewise took ~0.2 s per run).
   uint64_t hash = 1469598103934665603ull;  // FNV-1a 64 offset basis
-  std::vector<char> buffer(1 << 16);
+  std::vector<uint64_t> buffer(1 << 13);
   while (in) {
-    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    in.read(reinterpret_cast<char*>(buffer.data()), static_cast<std::streamsize>(buffer.size() * sizeof(uint64_t)));
     const std::streamsize got = in.gcount();
-    for (std::streamsize i = 0; i < got; ++i) {
-      hash ^= static_cast<unsigned char>(buffer[i]);
+    const size_t words = static_cast<size_t>(got) / sizeof(uint64_t);
+    for (size_t i = 0; i < words; ++i) {
+      hash ^= buffer[i];
       hash *= 1099511628211ull;  // FNV prime
+    }
+    const unsigned char* tail = reinterpret_cast<const unsigned char*>(buffer.data()) + words * sizeof(uint64_t);
+    for (size_t i = 0; i < static_cast<size_t>(got) % sizeof(uint64_t); ++i) {
+      hash ^= tail[i];
+      hash *= 1099511628211ull;
     }
   }
   char text[32];

@@ -18,7 +18,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_iterations", &o.lk_iterations, "LK iterations per level")
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
       .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
-           "forward-backward check only for points a cue flags moving (faster; same labels)")
+           "forward-backward check only for points a cue flags moving (faster; tracks that fail it unseen "
+           "still feed the ego-motion and F, which are robust to them)")
       .Add("lk_max_points", &o.lk_max_points,
            "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,

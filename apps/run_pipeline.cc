@@ -189,7 +189,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                        std::to_string(options.sensor.camera.height));
     }
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
-    if (masks) {
+    if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
       label_stats.Add(record.detected, record.keep, loaded.mask);
       moving_now_stats.Add(record.detected, record.keep, loaded.mask, loaded.still);
       for (const auto& [cue, moving] : record.cue_flags) {

@@ -190,6 +190,10 @@ run_bench >"$DIR/run1b.txt" 2>&1 || fail "run 1b: $(cat "$DIR/run1b.txt")"
 grep -qF "runs: 2 (1 resumed, 0 failed)" "$DIR/run1b.txt" || fail "older build resumed: $(cat "$DIR/run1b.txt")"
 ! grep -qF 'fnv1a64:0000000000000000' "$OUT/runs/syn_twin/plain/seed1/stats.json" ||
   fail "the older build's stats.json was kept"
+# An unreadable stats.json is run again too (no abort).
+printf '{"build_id": 7, truncated' >"$OUT/runs/syn_twin/plain/seed1/stats.json"
+run_bench >"$DIR/run1c.txt" 2>&1 || fail "run 1c: $(cat "$DIR/run1c.txt")"
+grep -qF "runs: 2 (1 resumed, 0 failed)" "$DIR/run1c.txt" || fail "corrupt stats.json: $(cat "$DIR/run1c.txt")"
 stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
 sleep 1
 run_bench --repeats 2 >"$DIR/run2.txt" 2>&1 || fail "run 2: $(cat "$DIR/run2.txt")"

@@ -242,8 +242,12 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
   // hypothesis converges to the true motion and wins.
   const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {alternative}, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
+  EXPECT_EQ(ego.seed_index, -2);  // the camera-at-rest hypothesis
   EXPECT_LT(error(ego), 1e-4);
   EXPECT_LE(ego.gate_px, 0.5 + 1e-9);
+  // Limit (measured by review, 2026-11-30): this works while the tracking noise stays below the
+  // wrong motion's misfit on the background — here up to ~0.1 px per axis; at 0.15 px the wrong
+  // motion wins again. Synthetic LK noise is ~0.06 px; real data will be noisier.
 }
 
 // Forward tracks only, then the backward check on a subset: a track moved off its true position
@@ -322,7 +326,6 @@ TEST(WarpResidual, NoMotionAndDepthChange) {
   }
 }
 
-// Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
 // Per-point tolerance (matched keypoints from coarse pyramid levels) and the mismatch bound.
 TEST(WarpResidual, ToleranceScaleAndMismatch) {
   const PinholeCamera camera = Camera();
@@ -346,6 +349,7 @@ TEST(WarpResidual, ToleranceScaleAndMismatch) {
   EXPECT_NEAR(r.residual_px[3], 60.f, 1e-3f);
 }
 
+// Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
 TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
   cv::Mat depth = PlaneDepth(3.f);
   const cv::Rect person(200, 100, 120, 300);

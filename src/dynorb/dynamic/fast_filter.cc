@@ -164,7 +164,6 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
       warp.depth.assign(n, CueVote::kUnknown);
     }
     timing_.cues_ms = watch.ElapsedMs();
-    last_residual_ = warp.residual_px;
 
     // 3. Fundamental matrix by RANSAC.
     watch.Restart();
@@ -198,9 +197,10 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
       if (options_.check_f_with_prediction && ego.ok) {
         int agree = 0, judged = 0;
         for (size_t i = 0; i < n; ++i) {
-          if (!static_ref[i] || warp.residual[i] == CueVote::kUnknown) continue;
+          const CueVote r = warp.residual[i];
+          if (!static_ref[i] || r == CueVote::kUnknown || r == CueVote::kMismatch) continue;
           ++judged;
-          agree += warp.residual[i] == CueVote::kStatic ? 1 : 0;
+          agree += r == CueVote::kStatic ? 1 : 0;
         }
         if (!have_f || (judged >= 10 && agree < 0.6 * judged)) {
           info_.f_replaced = have_f;
@@ -246,6 +246,12 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
       }
       info_.num_tracked = corr.num_valid;
     }
+    // A residual beyond residual_mismatch_px means a wrong correspondence: no cue votes for it.
+    for (size_t i = 0; i < n; ++i) {
+      if (warp.residual[i] != CueVote::kMismatch) continue;
+      epi[i] = dir[i] = mag[i] = warp.depth[i] = CueVote::kUnknown;
+    }
+    last_residual_ = warp.residual_px;
     std::vector<uint8_t> seed(n, 0), confident_static(n, 0);
     for (size_t i = 0; i < n; ++i) {
       if (!valid[i]) continue;

@@ -153,11 +153,13 @@ TEST_F(FastFilterSequence, DescriptorCorrespondencesWork) {
   const Result r = Run(options);
   std::printf("descriptors: tp %lld fp %lld fn %lld precision %.3f recall %.3f\n", r.tp, r.fp, r.fn, r.precision(),
               r.recall());
-  // Regression floors (measured 0.081 / 0.27 on this 24-frame clip; matched keypoint positions
-  // are only as precise as their pyramid level, so descriptors find fewer movers than flow here;
-  // 300-frame numbers in docs/fast_mode.md).
+  // Regression floor (measured recall 0.27 on this 24-frame clip; its precision, 0.08, is no better
+  // than removing keypoints at random here — matched keypoint positions are only as precise as
+  // their pyramid level; over 300 frames it does better, docs/fast_mode.md). The path runs and is
+  // deterministic.
   EXPECT_GE(r.recall(), 0.2);
-  EXPECT_GE(r.precision(), 0.05);
+  const Result again = Run(options);
+  EXPECT_EQ(r.keep, again.keep);
 }
 
 TEST(FastFilter, FirstFrameKeepsEverythingAndOptionsValidate) {

@@ -242,8 +242,9 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     if (!duplicate) refine_seed(start, s);
   }
   score_all();
-  // A prediction that fits to the noise floor (3 sigmas within min_gate_px) and explains nearly
-  // the whole image there needs no search.
+  // A prediction that fits to the noise floor (3 sigmas within min_gate_px) and covers
+  // skip_search_coverage of the cells there needs no search (on real, noisier data the spread is
+  // larger and the search always runs).
   if (best_coverage < options.skip_search_coverage || score_gate > options.min_gate_px) {
     if (options.try_identity) refine_seed(Rigid3d(), identity_seed);
     std::vector<uint8_t> use(problem.object.size(), 1);

@@ -59,7 +59,7 @@ struct EgoMotionResult {
   bool ok = false;
   int seed_index = -1;  // the accepted seed, -1: RANSAC hypothesis, -2: the camera at rest
   Rigid3d prev_from_cur;
-  int num_inliers = 0;  // points within the last gate
+  int num_inliers = 0;  // points within gate_px (the common scoring gate)
   double coverage = 0.0;  // fraction of occupied cells covered by inliers
   double sigma_px = 0.0;  // robust spread of the inliers' residuals (px)
   double gate_px = 0.0;   // the common gate the hypotheses were scored at (px)

@@ -90,15 +90,18 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
     if (out.keep.size() != keep.size())
       throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
-    // Never initialize the map from a frame the filter could not judge: withhold its keypoints.
-    if (!out.judged && tracker_.state() == TrackingState::kNotInitialized) keep.assign(keep.size(), false);
+    record.judged = out.judged;
+    // Never initialize the map from a frame the filter could not judge: withhold its keypoints
+    // (and do not refill them either).
+    const bool withhold = !out.judged && tracker_.state() == TrackingState::kNotInitialized;
+    if (withhold) keep.assign(keep.size(), false);
     record.timing.filter_ms = watch.ElapsedMs();
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
     if (record_keypoints_) record.cue_flags = filter_->CueFlags();
     if (record_overlays_) record.filter_overlay = out.overlay;
-    if (options_.refill_filtered && record.num_filtered > 0 && filter_->MaskCoversDetections()) {
+    if (!withhold && options_.refill_filtered && record.num_filtered > 0 && filter_->MaskCoversDetections()) {
       watch.Restart();
       cv::Mat exclude = out.dynamic_mask.empty() || out.dynamic_mask.size() != gray.size()
                             ? cv::Mat::zeros(gray.size(), CV_8U)

@@ -64,6 +64,8 @@ struct FrameRecord {
   int num_refilled = 0;        // Keypoints used after the refill detection (0: no refill).
   int num_inliers = 0;
   bool new_keyframe = false;
+  bool judged = true;       // The filter judged this frame (FilterOutput::judged); false: its
+                            // keypoints were withheld if the map was not initialized yet.
   FrameTiming timing;
   std::vector<bool> keep;  // Filter decision per detected keypoint (empty without a filter).
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
