@@ -30,15 +30,16 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
 std::string FramesCsv(const std::vector<FrameRecord>& records) {
   std::string csv =
       "frame,timestamp,state,relocalized,new_keyframe,reference_keyframe,keypoints,filtered,refilled,inliers,"
-      "detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,mapping_ms,total_ms\n";
+      "judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,mapping_ms,total_ms\n";
   char line[512];
   for (const FrameRecord& r : records) {
     const FrameTiming& t = r.timing;
-    std::snprintf(line, sizeof(line), "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+    std::snprintf(line, sizeof(line), "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
                   static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state), r.relocalized ? 1 : 0,
                   r.new_keyframe ? 1 : 0,
                   r.reference_keyframe == kNoKeyframe ? -1LL : static_cast<long long>(r.reference_keyframe),
-                  r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, t.detect_ms, t.filter_ms,
+                  r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, r.judged ? 1 : 0, t.detect_ms,
+                  t.filter_ms,
                   t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms, t.mapping_ms, t.total_ms);
     csv += line;
   }

@@ -156,12 +156,20 @@ assert [int(r["frame"]) for r in rows] == list(range(14))
 assert sum(int(r["new_keyframe"]) for r in rows) == s["keyframes_inserted"], rows
 assert sum(r["state"] == "ok" for r in rows) == s["tracked_frames"]
 assert all(float(r["total_ms"]) > 0 and int(r["keypoints"]) > 0 for r in rows)
+assert all(r["judged"] == "1" for r in rows), rows  # plain mode has no filter: every frame counts
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
   fail "fast run on the cached sequence"
+/usr/bin/python3 - "$DIR/fastrun/frames.csv" <<'EOF' || fail "fast frames.csv: the first frame is not judged"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert rows[0]["judged"] == "0" and rows[0]["state"] == "not_initialized", rows[0]
+assert rows[0]["filtered"] == rows[0]["keypoints"], rows[0]  # withheld
+assert all(r["judged"] == "1" for r in rows[1:]) and rows[1]["state"] == "ok", rows[1]
+EOF
 /usr/bin/python3 - "$DIR/fastrun/stats.json" "$OUT/cache/walking_xyz_s3_f14" <<'EOF' || fail "keypoint label statistics"
 import json, os, sys
 d = json.load(open(sys.argv[1]))["dynamic_keypoints"]
