@@ -52,6 +52,27 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   return c;
 }
 
+Correspondences TrackSubsetWithFlow(const std::vector<cv::Mat>& previous_pyramid,
+                                    const std::vector<cv::Mat>& current_pyramid, const std::vector<cv::Point2f>& current,
+                                    const std::vector<int>& indices, const std::vector<cv::Point2f>& initial_previous,
+                                    const LkOptions& options) {
+  std::vector<cv::Point2f> points;
+  points.reserve(indices.size());
+  for (int i : indices) points.push_back(current[i]);
+  const Correspondences sub = TrackWithFlow(previous_pyramid, current_pyramid, points, initial_previous, options);
+  Correspondences c;
+  c.previous = current;
+  c.valid.assign(current.size(), 0);
+  c.for_f.assign(current.size(), 0);
+  for (size_t k = 0; k < indices.size(); ++k) {
+    c.previous[indices[k]] = sub.previous[k];
+    c.valid[indices[k]] = sub.valid[k];
+    c.for_f[indices[k]] = sub.for_f[k];
+  }
+  c.num_valid = sub.num_valid;
+  return c;
+}
+
 int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
                   const std::vector<cv::Point2f>& current, const std::vector<int>& indices, const LkOptions& options,
                   Correspondences* c) {

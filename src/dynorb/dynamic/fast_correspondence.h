@@ -42,6 +42,14 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
                               const std::vector<cv::Point2f>& current, const std::vector<cv::Point2f>& initial_previous,
                               const LkOptions& options);
 
+// TrackWithFlow for the points listed in `indices` only (e.g. SpreadSubset); initial_previous:
+// one guess per listed point (empty: their current positions). The other points are invalid with
+// previous = current.
+Correspondences TrackSubsetWithFlow(const std::vector<cv::Mat>& previous_pyramid,
+                                    const std::vector<cv::Mat>& current_pyramid, const std::vector<cv::Point2f>& current,
+                                    const std::vector<int>& indices, const std::vector<cv::Point2f>& initial_previous,
+                                    const LkOptions& options);
+
 // The forward–backward check for the points listed in `indices` only: each is tracked back from
 // c->previous into the current frame and invalidated (valid = for_f = 0) when it does not return
 // within fb_max_px of `current`. Returns the number invalidated.

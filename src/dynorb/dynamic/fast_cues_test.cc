@@ -290,6 +290,16 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
   }
   EXPECT_EQ(invalidated, expected);
   EXPECT_EQ(c.num_valid, static_cast<int>(points.size()) - expected);
+  // Tracking a subset: only the listed points get correspondences.
+  const Correspondences part = TrackSubsetWithFlow(prev_pyr, cur_pyr, points, subset, {}, lk);
+  ASSERT_EQ(part.valid.size(), points.size());
+  EXPECT_EQ(part.num_valid, static_cast<int>(subset.size()));
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(part.valid[i], i % 2 == 0 ? 1 : 0) << i;
+    const cv::Point2f expect = i % 2 == 0 ? points[i] - cv::Point2f(3.f, 1.f) : points[i];
+    EXPECT_NEAR(part.previous[i].x, expect.x, 0.1f);
+    EXPECT_NEAR(part.previous[i].y, expect.y, 0.1f);
+  }
 }
 
 TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {

@@ -68,35 +68,19 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   if (options_.method() == CorrespondenceMethod::kOpticalFlow) {
     pyramid = BuildLkPyramid(*input.gray, lk);
     if (has_previous_) {
+      // At most lk_max_points keypoints, spread over the image; LK seeded with the prediction.
+      const std::vector<int> subset = SpreadSubset(keypoints, input.gray->size(), options_.lk_max_points);
       std::vector<cv::Point2f> initial;
       if (options_.lk_predict_initial && predicted_prev_from_cur) {
-        initial.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-          const DepthSample z = SampleDepth(depth, p2[i], max_depth);
-          initial[i] = WarpToPrevious(camera_, *predicted_prev_from_cur, p2[i], z.center > 0.f ? z.center : 3.0);
-          if (!camera_.InImage(Eigen::Vector2d(initial[i].x, initial[i].y))) initial[i] = p2[i];
-        }
-      }
-      const std::vector<int> subset = SpreadSubset(keypoints, input.gray->size(), options_.lk_max_points);
-      if (subset.size() == n) {
-        corr = TrackWithFlow(previous_pyramid_, pyramid, p2, initial, lk);
-      } else {
-        std::vector<cv::Point2f> sub_p2, sub_initial;
+        initial.reserve(subset.size());
         for (int i : subset) {
-          sub_p2.push_back(p2[i]);
-          if (!initial.empty()) sub_initial.push_back(initial[i]);
+          const DepthSample z = SampleDepth(depth, p2[i], max_depth);
+          cv::Point2f guess = WarpToPrevious(camera_, *predicted_prev_from_cur, p2[i], z.center > 0.f ? z.center : 3.0);
+          if (!camera_.InImage(Eigen::Vector2d(guess.x, guess.y))) guess = p2[i];
+          initial.push_back(guess);
         }
-        const Correspondences sub = TrackWithFlow(previous_pyramid_, pyramid, sub_p2, sub_initial, lk);
-        corr.previous = initial.empty() ? p2 : initial;
-        corr.valid.assign(n, 0);
-        corr.for_f.assign(n, 0);
-        for (size_t k = 0; k < subset.size(); ++k) {
-          corr.previous[subset[k]] = sub.previous[k];
-          corr.valid[subset[k]] = sub.valid[k];
-          corr.for_f[subset[k]] = sub.for_f[k];
-        }
-        corr.num_valid = sub.num_valid;
       }
+      corr = TrackSubsetWithFlow(previous_pyramid_, pyramid, p2, subset, initial, lk);
     }
   } else {
     descriptors = extractor_.Describe(*input.keypoints);
