@@ -71,15 +71,34 @@ cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
   return mask;
 }
 
+namespace {
+
+// The 16 pixels of FAST's Bresenham circle of radius 3 (OpenCV's pattern).
+constexpr int kFastCircle[16][2] = {{0, 3},  {1, 3},   {2, 2},   {3, 1},  {3, 0},  {3, -1}, {2, -2}, {1, -3},
+                                    {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2}, {-1, 3}};
+
+// Does the keypoint's FAST circle at its pyramid level touch a non-zero pixel of `objects`?
+bool CircleTouches(const cv::Mat& objects, const cv::KeyPoint& kp, double level_scale_factor) {
+  const double s = std::pow(level_scale_factor, std::max(0, kp.octave));
+  for (const auto& d : kFastCircle) {
+    const int x = static_cast<int>(std::lround(kp.pt.x + d[0] * s));
+    const int y = static_cast<int>(std::lround(kp.pt.y + d[1] * s));
+    if (x >= 0 && y >= 0 && x < objects.cols && y < objects.rows && objects.at<uint8_t>(y, x)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
                              const cv::Mat& mask, const cv::Mat& ignore) {
   if (mask.empty()) return;
   long long tp = 0, fp = 0, fn = 0;
+  cv::Mat objects = mask != 0;  // Counted object pixels (still objects removed).
+  if (!ignore.empty()) objects.setTo(0, ignore != 0);
   cv::Mat near;  // Pixels within kBoundaryPx of a counted object pixel (built on the first false positive).
   auto near_object = [&](int x, int y) {
     if (near.empty()) {
-      cv::Mat objects = mask != 0;
-      if (!ignore.empty()) objects.setTo(0, ignore != 0);
       cv::dilate(objects, near,
                  cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBoundaryPx + 1, 2 * kBoundaryPx + 1)));
     }
@@ -101,6 +120,10 @@ void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const s
     }
     if (!predicted && truth) ++fn;
     if (!predicted && !truth) ++tn_;
+    const bool support = truth || CircleTouches(objects, keypoints[i], level_scale_factor_);
+    support_tp_ += predicted && support ? 1 : 0;
+    support_fp_ += predicted && !support ? 1 : 0;
+    support_fn_ += !predicted && support ? 1 : 0;
   }
   tp_ += tp;
   fp_ += fp;
@@ -123,6 +146,15 @@ nlohmann::json KeypointLabelStats::ToJson() const {
           {"precision", ratio(tp_, tp_ + fp_)},
           {"recall", ratio(tp_, tp_ + fn_)},
           {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},
+          {"support",
+           {{"true_positive", support_tp_},
+            {"false_positive", support_fp_},
+            {"false_negative", support_fn_},
+            {"precision", ratio(support_tp_, support_tp_ + support_fp_)},
+            {"recall", ratio(support_tp_, support_tp_ + support_fn_)},
+            {"definition",
+             "truth = keypoint on an object pixel or its FAST circle at its pyramid level (radius 3 * "
+             "scale_factor^octave px) touches an object: the corner is the object's outline and moves with it"}}},
           {"mean_frame_precision", Summarize(frame_precision_).mean},
           {"mean_frame_recall", Summarize(frame_recall_).mean},
           {"definition",

@@ -36,8 +36,13 @@ class MaskGroundTruth {
 };
 
 // Counts over keypoints: positive = labelled dynamic (removed); truth = on a moving-object pixel.
+// A second, scale-aware truth ("support") also counts a keypoint as on the object when its FAST
+// circle at its own pyramid level (radius 3 px there, 3·scale^octave px in the image) touches the
+// object: such a corner is the object's outline and moves with it. Its precision AND recall are
+// reported (the outline keypoints a filter keeps are misses there).
 class KeypointLabelStats {
  public:
+  explicit KeypointLabelStats(double level_scale_factor = 1.2) : level_scale_factor_(level_scale_factor) {}
   // keep: per keypoint, true = kept as static (empty = all kept, e.g. plain mode).
   // ignore (optional, CV_8U): keypoints on its non-zero pixels are not counted at all.
   void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask,
@@ -48,7 +53,9 @@ class KeypointLabelStats {
   // A removed keypoint off the object but within this many px of it: its FAST circle (radius 3)
   // touches the object, so its corner may be the object's outline (counted separately).
   static constexpr int kBoundaryPx = 3;
+  double level_scale_factor_;
   long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0, ignored_ = 0, fp_near_ = 0;
+  long long support_tp_ = 0, support_fp_ = 0, support_fn_ = 0;
   std::vector<double> frame_precision_, frame_recall_;
   int frames_ = 0;
 };

@@ -156,8 +156,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     filter = mode->Create(context);
   }
   const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(cli.dataset);
-  KeypointLabelStats label_stats;
-  KeypointLabelStats moving_now_stats;  // Objects standing still at the frame ignored (objects.txt).
+  const double level_scale = options.orb.scale_factor;  // Keypoint octave -> image scale ("support" truth).
+  KeypointLabelStats label_stats(level_scale);
+  KeypointLabelStats moving_now_stats(level_scale);  // Objects standing still at the frame ignored (objects.txt).
   std::map<std::string, KeypointLabelStats> cue_stats;  // Per filter cue (KeypointFilter::CueFlags), moving now.
   System system(options, std::move(filter));
   system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
@@ -195,7 +196,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       for (const auto& [cue, moving] : record.cue_flags) {
         std::vector<bool> keep(moving.size());
         for (size_t k = 0; k < moving.size(); ++k) keep[k] = !moving[k];
-        cue_stats[cue].Add(record.detected, keep, loaded.mask, loaded.still);
+        cue_stats.try_emplace(cue, level_scale).first->second.Add(record.detected, keep, loaded.mask, loaded.still);
       }
     }
     if (!cli.overlays.empty()) {

@@ -1,0 +1,67 @@
+#include "dynamic_labels.h"
+
+#include <gtest/gtest.h>
+
+namespace dynorb {
+namespace {
+
+cv::KeyPoint At(float x, float y, int octave) { return cv::KeyPoint(cv::Point2f(x, y), 31.f, -1.f, 0.f, octave); }
+
+// A 20×20 object at x, y in [40, 60) on a 100×100 image.
+cv::Mat SquareMask() {
+  cv::Mat mask = cv::Mat::zeros(100, 100, CV_8U);
+  mask(cv::Rect(40, 40, 20, 20)).setTo(1);
+  return mask;
+}
+
+TEST(KeypointLabelStats, PixelTruthAndScaleAwareSupportTruth) {
+  KeypointLabelStats stats(1.2);
+  const std::vector<cv::KeyPoint> kps = {
+      At(50, 50, 0),  // on the object, removed: TP for both truths
+      At(37, 50, 0),  // 3 px left of the object, octave 0: its circle reaches x = 40 -> support truth; removed
+      At(36, 50, 0),  // 4 px off, octave 0: radius 3 misses -> FP for both; removed
+      At(35, 50, 3),  // 5 px off, octave 3: radius 3 * 1.728 = 5.2 px reaches the object; removed
+      At(37, 45, 0),  // 3 px off, kept: a miss (FN) for the support truth only
+      At(10, 10, 0),  // far away, kept: TN
+      At(45, 45, 0),  // on the object, kept: FN for both
+  };
+  const std::vector<bool> keep = {false, false, false, false, true, true, true};
+  stats.Add(kps, keep, SquareMask());
+  const nlohmann::json j = stats.ToJson();
+  EXPECT_EQ(j["true_positive"], 1);
+  EXPECT_EQ(j["false_positive"], 3);
+  EXPECT_EQ(j["false_negative"], 1);
+  EXPECT_EQ(j["true_negative"], 2);
+  EXPECT_EQ(j["false_positive_within_3px"], 1);  // only the keypoint 3 px off counts as "within 3 px"
+  const nlohmann::json& s = j["support"];
+  EXPECT_EQ(s["true_positive"], 3);   // on, 3 px at octave 0, 5 px at octave 3
+  EXPECT_EQ(s["false_positive"], 1);  // 4 px at octave 0
+  EXPECT_EQ(s["false_negative"], 2);  // kept outline keypoint + kept keypoint on the object
+  EXPECT_DOUBLE_EQ(s["precision"].get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(s["recall"].get<double>(), 0.6);
+}
+
+TEST(KeypointLabelStats, StillObjectsAreNeitherTruthNorSupport) {
+  KeypointLabelStats stats(1.2);
+  const cv::Mat mask = SquareMask();
+  const cv::Mat still = mask * 255;  // the whole object stands still at this frame
+  const std::vector<cv::KeyPoint> kps = {At(50, 50, 0), At(37, 50, 0)};
+  stats.Add(kps, {false, false}, mask, still);
+  const nlohmann::json j = stats.ToJson();
+  EXPECT_EQ(j["ignored"], 1);                        // the keypoint on the still object
+  EXPECT_EQ(j["false_positive"], 1);                 // the one beside it is a plain false positive
+  EXPECT_EQ(j["support"]["false_positive"], 1);      // ... for the support truth as well
+  EXPECT_EQ(j["support"]["true_positive"], 0);
+}
+
+TEST(KeypointLabelStats, NoKeepVectorMeansNothingRemoved) {
+  KeypointLabelStats stats;
+  stats.Add({At(50, 50, 0), At(38, 50, 0)}, {}, SquareMask());
+  const nlohmann::json j = stats.ToJson();
+  EXPECT_EQ(j["false_negative"], 1);
+  EXPECT_EQ(j["support"]["false_negative"], 2);
+  EXPECT_EQ(j["support"]["recall"], 0.0);
+}
+
+}  // namespace
+}  // namespace dynorb
