@@ -77,13 +77,15 @@ namespace {
 constexpr int kFastCircle[16][2] = {{0, 3},  {1, 3},   {2, 2},   {3, 1},  {3, 0},  {3, -1}, {2, -2}, {1, -3},
                                     {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2}, {-1, 3}};
 
-// Does the keypoint's FAST circle at its pyramid level touch a non-zero pixel of `objects`?
-bool CircleTouches(const cv::Mat& objects, const cv::KeyPoint& kp, double level_scale_factor) {
+// Does the keypoint's FAST circle at its pyramid level touch an object pixel of `mask` that
+// `ignore` (optional) does not cover?
+bool CircleTouches(const cv::Mat& mask, const cv::Mat& ignore, const cv::KeyPoint& kp, double level_scale_factor) {
   const double s = std::pow(level_scale_factor, std::max(0, kp.octave));
   for (const auto& d : kFastCircle) {
     const int x = static_cast<int>(std::lround(kp.pt.x + d[0] * s));
     const int y = static_cast<int>(std::lround(kp.pt.y + d[1] * s));
-    if (x >= 0 && y >= 0 && x < objects.cols && y < objects.rows && objects.at<uint8_t>(y, x)) return true;
+    if (x < 0 || y < 0 || x >= mask.cols || y >= mask.rows || !mask.at<uint8_t>(y, x)) continue;
+    if (ignore.empty() || !ignore.at<uint8_t>(y, x)) return true;
   }
   return false;
 }
@@ -94,11 +96,11 @@ void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const s
                              const cv::Mat& mask, const cv::Mat& ignore) {
   if (mask.empty()) return;
   long long tp = 0, fp = 0, fn = 0;
-  cv::Mat objects = mask != 0;  // Counted object pixels (still objects removed).
-  if (!ignore.empty()) objects.setTo(0, ignore != 0);
   cv::Mat near;  // Pixels within kBoundaryPx of a counted object pixel (built on the first false positive).
   auto near_object = [&](int x, int y) {
     if (near.empty()) {
+      cv::Mat objects = mask != 0;
+      if (!ignore.empty()) objects.setTo(0, ignore != 0);
       cv::dilate(objects, near,
                  cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBoundaryPx + 1, 2 * kBoundaryPx + 1)));
     }
@@ -120,7 +122,7 @@ void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const s
     }
     if (!predicted && truth) ++fn;
     if (!predicted && !truth) ++tn_;
-    const bool support = truth || CircleTouches(objects, keypoints[i], level_scale_factor_);
+    const bool support = truth || CircleTouches(mask, ignore, keypoints[i], level_scale_factor_);
     support_tp_ += predicted && support ? 1 : 0;
     support_fp_ += predicted && !support ? 1 : 0;
     support_fn_ += !predicted && support ? 1 : 0;

@@ -42,7 +42,8 @@ class MaskGroundTruth {
 // reported (the outline keypoints a filter keeps are misses there).
 class KeypointLabelStats {
  public:
-  explicit KeypointLabelStats(double level_scale_factor = 1.2) : level_scale_factor_(level_scale_factor) {}
+  // level_scale_factor: the ORB pyramid's scale factor (keypoint octave -> image scale).
+  explicit KeypointLabelStats(double level_scale_factor) : level_scale_factor_(level_scale_factor) {}
   // keep: per keypoint, true = kept as static (empty = all kept, e.g. plain mode).
   // ignore (optional, CV_8U): keypoints on its non-zero pixels are not counted at all.
   void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask,

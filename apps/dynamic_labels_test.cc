@@ -55,7 +55,7 @@ TEST(KeypointLabelStats, StillObjectsAreNeitherTruthNorSupport) {
 }
 
 TEST(KeypointLabelStats, NoKeepVectorMeansNothingRemoved) {
-  KeypointLabelStats stats;
+  KeypointLabelStats stats(1.2);
   stats.Add({At(50, 50, 0), At(38, 50, 0)}, {}, SquareMask());
   const nlohmann::json j = stats.ToJson();
   EXPECT_EQ(j["false_negative"], 1);
