@@ -23,6 +23,9 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->add_option("--models", cli->models, "Detector model folder (semantic/fused; default $DYNORB_MODELS, else ../shared/models or the checkout's ../shared/models when present, else models/)");
   cmd->add_option("--save-overlays", cli->overlays,
                   "Write one image per frame: kept keypoints green, removed (dynamic) ones red, plus the mode's evidence");
+  cmd->add_option("--overlay-every", cli->overlay_every,
+                  "With --save-overlays: only every N-th frame (drawing is timed as part of the filter)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")
       ->check(CLI::IsMember({"sequential", "parallel"}));
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");

@@ -8,6 +8,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/stats.h"
+#include "dynorb/features/fast_circle.h"
 #include "dynorb/io/text_lines.h"
 
 namespace dynorb {
@@ -73,19 +74,12 @@ cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
 
 namespace {
 
-// The 16 pixels of FAST's Bresenham circle of radius 3 (OpenCV's pattern).
-constexpr int kFastCircle[16][2] = {{0, 3},  {1, 3},   {2, 2},   {3, 1},  {3, 0},  {3, -1}, {2, -2}, {1, -3},
-                                    {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2}, {-1, 3}};
-
 // Does the keypoint's FAST circle at its pyramid level touch an object pixel of `mask` that
 // `ignore` (optional) does not cover?
 bool CircleTouches(const cv::Mat& mask, const cv::Mat& ignore, const cv::KeyPoint& kp, double level_scale_factor) {
-  const double s = std::pow(level_scale_factor, std::max(0, kp.octave));
-  for (const auto& d : kFastCircle) {
-    const int x = static_cast<int>(std::lround(kp.pt.x + d[0] * s));
-    const int y = static_cast<int>(std::lround(kp.pt.y + d[1] * s));
-    if (x < 0 || y < 0 || x >= mask.cols || y >= mask.rows || !mask.at<uint8_t>(y, x)) continue;
-    if (ignore.empty() || !ignore.at<uint8_t>(y, x)) return true;
+  for (const cv::Point& p : FastCirclePixels(kp, level_scale_factor)) {
+    if (p.x < 0 || p.y < 0 || p.x >= mask.cols || p.y >= mask.rows || !mask.at<uint8_t>(p.y, p.x)) continue;
+    if (ignore.empty() || !ignore.at<uint8_t>(p.y, p.x)) return true;
   }
   return false;
 }

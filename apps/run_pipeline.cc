@@ -113,6 +113,7 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
 
 nlohmann::json RunPipeline(const RunRequest& cli) {
   if (!fs::is_directory(cli.dataset)) throw InputError("dataset folder not found: " + cli.dataset);
+  if (cli.overlay_every < 1) throw InputError("overlay_every must be >= 1");
   std::string config_path = cli.config;
   if (config_path.empty()) {
     config_path = (fs::path(cli.dataset) / "camera.yaml").string();
@@ -162,7 +163,6 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   std::map<std::string, KeypointLabelStats> cue_stats;  // Per filter cue (KeypointFilter::CueFlags), moving now.
   System system(options, std::move(filter));
   system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
-  system.set_record_overlays(!cli.overlays.empty());
   ProgressBar progress("frames", static_cast<int>(last - first));
   Stopwatch wall;
   // PNG decoding (≈ 6 ms/frame) overlaps processing on the second core; results are unchanged.
@@ -189,6 +189,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                        " says " + std::to_string(options.sensor.camera.width) + "x" +
                        std::to_string(options.sensor.camera.height));
     }
+    // The filter draws its overlay only on the frames that are saved (the drawing is timed).
+    const bool save_overlay = !cli.overlays.empty() && (i - first) % static_cast<size_t>(cli.overlay_every) == 0;
+    system.set_record_overlays(save_overlay);
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
     if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
       label_stats.Add(record.detected, record.keep, loaded.mask);
@@ -199,7 +202,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
         cue_stats.try_emplace(cue, level_scale).first->second.Add(record.detected, keep, loaded.mask, loaded.still);
       }
     }
-    if (!cli.overlays.empty()) {
+    if (save_overlay) {
       const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
       char name[32];
       std::snprintf(name, sizeof(name), "%06zu.png", i);

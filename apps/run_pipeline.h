@@ -20,6 +20,7 @@ struct RunRequest {
   std::string frames;                  // "A:B" or empty
   std::string models;                  // detector model folder (semantic modes)
   std::string overlays;                // folder for overlay images; empty: none
+  int overlay_every = 1;               // draw and save the overlay of every k-th frame only
   bool quiet = false;                  // no progress bar
 };
 

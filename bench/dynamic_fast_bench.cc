@@ -12,6 +12,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/dynamic/fast_correspondence.h"
 #include "dynorb/dynamic/fast_filter.h"
 #include "dynorb/synth/synthesizer.h"
 
@@ -122,6 +123,35 @@ void BM_FastFilter_NoRegion(benchmark::State& state) {
   RunFast(state, o);
 }
 
+// The flow stage's two parts on the same clip: the LK pyramid (with derivatives) of one frame,
+// and tracking the filter's 400-point subset from one frame to the previous one.
+void BM_FastFlow_Pyramid(benchmark::State& state) {
+  const Clip& clip = GetClip();
+  const LkOptions lk;
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(BuildLkPyramid(clip.gray[i], lk));
+    i = (i + 1) % clip.gray.size();
+  }
+}
+void BM_FastFlow_Track(benchmark::State& state) {
+  const Clip& clip = GetClip();
+  LkOptions lk;
+  lk.backward_check = false;
+  std::vector<std::vector<cv::Mat>> pyramids;
+  for (const cv::Mat& g : clip.gray) pyramids.push_back(BuildLkPyramid(g, lk));
+  size_t i = 1;
+  for (auto _ : state) {
+    const auto& kps = clip.keypoints[i].keypoints;
+    std::vector<cv::Point2f> points;
+    for (const auto& kp : kps) points.push_back(kp.pt);
+    const std::vector<int> subset = SpreadSubset(kps, clip.gray[i].size(), static_cast<int>(state.range(0)));
+    benchmark::DoNotOptimize(TrackSubsetWithFlow(pyramids[i - 1], pyramids[i], points, subset, {}, lk));
+    i = i + 1 < clip.gray.size() ? i + 1 : 1;
+  }
+}
+BENCHMARK(BM_FastFlow_Pyramid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FastFlow_Track)->Arg(400)->Arg(200)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFilter_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_ReportCuesOnly_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);

@@ -163,6 +163,20 @@ grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robu
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
   fail "fast run on the cached sequence"
+# Overlays of every 5th frame only (frames 0, 5, 10 of 14); the filter draws nothing on the others.
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov" --quiet \
+  --save-overlays "$DIR/fastov/overlays" --overlay-every 5 >/dev/null 2>&1 || fail "fast run with overlays"
+[[ "$(ls "$DIR/fastov/overlays" | tr '\n' ' ')" == "000000.png 000005.png 000010.png " ]] ||
+  fail "--overlay-every 5 wrote: $(ls "$DIR/fastov/overlays" | tr '\n' ' ')"
+/usr/bin/python3 - "$DIR/fastov/stats.json" "$DIR/fastrun/stats.json" <<'EOF' || fail "overlays changed the result"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:])
+assert a["ate"] == b["ate"] and a["dynamic_keypoints"] == b["dynamic_keypoints"], "overlays changed the labels"
+overlay = a["timing_ms"]["filter_stages"]["overlay"]
+assert overlay["median"] == 0 and overlay["max"] > 0, overlay  # drawn on 3 of 14 frames only
+EOF
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov0" --quiet \
+  --save-overlays "$DIR/fastov0/overlays" --overlay-every 0 >/dev/null 2>&1 && fail "--overlay-every 0 accepted"
 /usr/bin/python3 - "$DIR/fastrun/frames.csv" <<'EOF' || fail "fast frames.csv: the first frame is not judged"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
