@@ -86,6 +86,20 @@ bool CircleTouches(const cv::Mat& mask, const cv::Mat& ignore, const cv::KeyPoin
 
 }  // namespace
 
+KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
+                                  const cv::Mat& ignore, double level_scale_factor) {
+  KeypointsOnObjects count;
+  if (mask.empty()) return count;
+  for (const cv::KeyPoint& kp : keypoints) {
+    const int x = std::clamp(static_cast<int>(std::lround(kp.pt.x)), 0, mask.cols - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(kp.pt.y)), 0, mask.rows - 1);
+    const bool on = mask.at<uint8_t>(y, x) != 0 && (ignore.empty() || ignore.at<uint8_t>(y, x) == 0);
+    count.pixel += on ? 1 : 0;
+    count.support += on || CircleTouches(mask, ignore, kp, level_scale_factor) ? 1 : 0;
+  }
+  return count;
+}
+
 void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
                              const cv::Mat& mask, const cv::Mat& ignore) {
   if (mask.empty()) return;

@@ -61,6 +61,15 @@ class KeypointLabelStats {
   int frames_ = 0;
 };
 
+// How many of `keypoints` lie on a moving object of `mask` that `ignore` (optional) does not cover:
+// `pixel` by their centre pixel, `support` also when their FAST circle touches one (see above).
+struct KeypointsOnObjects {
+  int pixel = 0;
+  int support = 0;
+};
+KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
+                                  const cv::Mat& ignore, double level_scale_factor);
+
 // Draws kept keypoints green and removed ones red on `base` (the filter's overlay, or the image).
 cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,
                             const std::vector<bool>& keep);

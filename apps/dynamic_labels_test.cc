@@ -41,6 +41,18 @@ TEST(KeypointLabelStats, PixelTruthAndScaleAwareSupportTruth) {
   EXPECT_DOUBLE_EQ(s["recall"].get<double>(), 0.6);
 }
 
+TEST(CountOnObjects, PixelAndSupportCountsIgnoringStillObjects) {
+  const std::vector<cv::KeyPoint> kps = {At(50, 50, 0), At(37, 50, 0), At(35, 50, 3), At(36, 50, 0), At(10, 10, 0)};
+  const KeypointsOnObjects c = CountOnObjects(kps, SquareMask(), cv::Mat(), 1.2);
+  EXPECT_EQ(c.pixel, 1);    // only the keypoint on the object
+  EXPECT_EQ(c.support, 3);  // + 3 px off at octave 0 and 5 px off at octave 3
+  const cv::Mat still = SquareMask() * 255;
+  const KeypointsOnObjects none = CountOnObjects(kps, SquareMask(), still, 1.2);
+  EXPECT_EQ(none.pixel, 0);
+  EXPECT_EQ(none.support, 0);
+  EXPECT_EQ(CountOnObjects(kps, cv::Mat(), cv::Mat(), 1.2).support, 0);  // no mask, nothing counted
+}
+
 TEST(KeypointLabelStats, StillObjectsAreNeitherTruthNorSupport) {
   KeypointLabelStats stats(1.2);
   const cv::Mat mask = SquareMask();

@@ -160,7 +160,11 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   const double level_scale = options.orb.scale_factor;  // Keypoint octave -> image scale ("support" truth).
   KeypointLabelStats label_stats(level_scale);
   KeypointLabelStats moving_now_stats(level_scale);  // Objects standing still at the frame ignored (objects.txt).
-  std::map<std::string, KeypointLabelStats> cue_stats;  // Per filter cue (KeypointFilter::CueFlags), moving now.
+  std::map<std::string, KeypointLabelStats> cue_stats;
+  // Pose inliers on objects moving at the frame: -1 per frame without masks.
+  std::vector<int> inliers_on_movers, new_landmarks_on_movers;
+  std::vector<double> on_movers_pixel, on_movers_support;
+  long long inliers_counted = 0, landmarks_created = 0, landmarks_on_movers = 0, landmarks_on_movers_support = 0;  // Per filter cue (KeypointFilter::CueFlags), moving now.
   System system(options, std::move(filter));
   system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
   ProgressBar progress("frames", static_cast<int>(last - first));
@@ -193,6 +197,21 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     const bool save_overlay = !cli.overlays.empty() && (i - first) % static_cast<size_t>(cli.overlay_every) == 0;
     system.set_record_overlays(save_overlay);
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
+    if (masks) {
+      // Every frame counts here, judged or not: a mover the pose rests on is a mover.
+      const KeypointsOnObjects on = CountOnObjects(record.inliers, loaded.mask, loaded.still, level_scale);
+      const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, loaded.mask, loaded.still, level_scale);
+      inliers_on_movers.push_back(on.pixel);
+      new_landmarks_on_movers.push_back(created.pixel);
+      landmarks_created += static_cast<long long>(record.new_landmarks.size());
+      landmarks_on_movers += created.pixel;
+      landmarks_on_movers_support += created.support;
+      if (record.pose_valid) {
+        on_movers_pixel.push_back(on.pixel);
+        on_movers_support.push_back(on.support);
+        inliers_counted += static_cast<long long>(record.inliers.size());
+      }
+    }
     if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
       label_stats.Add(record.detected, record.keep, loaded.mask);
       moving_now_stats.Add(record.detected, record.keep, loaded.mask, loaded.still);
@@ -241,6 +260,30 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
           "who stopped, the desk item before it starts) are not counted";
       stats["dynamic_keypoints"]["moving_now"] = now;
     }
+    double pixel_total = 0.0, support_total = 0.0;
+    int frames_with_any = 0;
+    for (size_t k = 0; k < on_movers_pixel.size(); ++k) {
+      pixel_total += on_movers_pixel[k];
+      support_total += on_movers_support[k];
+      frames_with_any += on_movers_pixel[k] > 0 ? 1 : 0;
+    }
+    const double inliers_total = std::max<double>(1.0, static_cast<double>(inliers_counted));
+    stats["inliers_on_moving_objects"] = {
+        {"per_frame", StatsJson(on_movers_pixel)},
+        {"support_per_frame", StatsJson(on_movers_support)},
+        {"fraction_of_inliers", pixel_total / inliers_total},
+        {"support_fraction_of_inliers", support_total / inliers_total},
+        {"frames_with_any", frames_with_any},
+        {"definition",
+         "pose inliers of each tracked frame (keypoints matched to a landmark after the final pose optimisation) "
+         "whose centre pixel is on an object moving at that frame (support: or whose FAST circle touches one)"}};
+    stats["landmarks_created_on_moving_objects"] = {
+        {"created", landmarks_created},
+        {"on_moving_objects", landmarks_on_movers},
+        {"support_on_moving_objects", landmarks_on_movers_support},
+        {"definition",
+         "landmarks the tracker created from a keyframe's depth whose keypoint lies on an object moving at that "
+         "frame (support: or touches one with its FAST circle)"}};
     for (const auto& [cue, cue_labels] : cue_stats) {
       const nlohmann::json all = cue_labels.ToJson();
       stats["dynamic_keypoints"]["by_cue"][cue] = {{"flagged", all["true_positive"].get<long long>() +
@@ -253,7 +296,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
   schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
-  WriteFileAtomically((fs::path(cli.out) / "frames.csv").string(), FramesCsv(system.records()));
+  WriteFileAtomically((fs::path(cli.out) / "frames.csv").string(), FramesCsv(system.records(), inliers_on_movers, new_landmarks_on_movers));
   WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
   return stats;
 }

@@ -8,14 +8,11 @@
 #include "dynorb/core/stats.h"
 
 namespace dynorb {
-namespace {
 
 nlohmann::json StatsJson(const std::vector<double>& values) {
   const SummaryStats s = Summarize(values);
   return {{"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}, {"count", s.count}};
 }
-
-}  // namespace
 
 EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Trajectory& estimate,
                                       const std::vector<FrameRecord>& records) {
@@ -27,20 +24,24 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
   return EvaluateTrajectories(cropped, estimate, EvalOptions());
 }
 
-std::string FramesCsv(const std::vector<FrameRecord>& records) {
+std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers,
+                      const std::vector<int>& new_landmarks_on_movers) {
   std::string csv =
       "frame,timestamp,state,relocalized,new_keyframe,reference_keyframe,keypoints,filtered,refilled,inliers,"
-      "judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,mapping_ms,total_ms\n";
+      "judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,mapping_ms,total_ms,inliers_on_movers,new_landmarks_on_movers\n";
   char line[512];
-  for (const FrameRecord& r : records) {
+  for (size_t k = 0; k < records.size(); ++k) {
+    const FrameRecord& r = records[k];
     const FrameTiming& t = r.timing;
-    std::snprintf(line, sizeof(line), "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+    std::snprintf(line, sizeof(line), "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d\n",
                   static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state), r.relocalized ? 1 : 0,
                   r.new_keyframe ? 1 : 0,
                   r.reference_keyframe == kNoKeyframe ? -1LL : static_cast<long long>(r.reference_keyframe),
                   r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, r.judged ? 1 : 0, t.detect_ms,
                   t.filter_ms,
-                  t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms, t.mapping_ms, t.total_ms);
+                  t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms, t.mapping_ms, t.total_ms,
+                  k < inliers_on_movers.size() ? inliers_on_movers[k] : -1,
+                  k < new_landmarks_on_movers.size() ? new_landmarks_on_movers[k] : -1);
     csv += line;
   }
   return csv;

@@ -26,9 +26,16 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
 nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& inputs,
                              const std::optional<EvalResult>& evaluation);
 
+// {mean, median, p95, max, count} of per-frame values, as stats.json writes them.
+nlohmann::json StatsJson(const std::vector<double>& values);
+
 // frames.csv: one line per processed frame (state, keyframe, keypoint counts, inliers, stage
 // times), with a header line. For finding where a run went wrong (docs/slam_core.md "Outputs").
-std::string FramesCsv(const std::vector<FrameRecord>& records);
+// `inliers_on_movers` / `new_landmarks_on_movers` (empty: no masks): per record, pose inliers and
+// newly created landmarks on objects moving at that frame (centre pixel on the ground-truth mask),
+// written as the last two columns (-1 without masks).
+std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers = {},
+                      const std::vector<int>& new_landmarks_on_movers = {});
 
 // A few aligned lines for stdout.
 std::string FormatRunSummary(const nlohmann::json& stats);

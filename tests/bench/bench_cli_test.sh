@@ -157,6 +157,17 @@ assert sum(int(r["new_keyframe"]) for r in rows) == s["keyframes_inserted"], row
 assert sum(r["state"] == "ok" for r in rows) == s["tracked_frames"]
 assert all(float(r["total_ms"]) > 0 and int(r["keypoints"]) > 0 for r in rows)
 assert all(r["judged"] == "1" for r in rows), rows  # plain mode has no filter: every frame counts
+# Pose inliers and new landmarks on moving objects (synthetic masks): counted per frame, summed in stats.json.
+on = [int(r["inliers_on_movers"]) for r in rows]
+assert all(0 <= o <= int(r["inliers"]) for o, r in zip(on, rows)), on
+m = s["inliers_on_moving_objects"]
+assert m["per_frame"]["count"] == s["tracked_frames"], m
+assert abs(m["per_frame"]["mean"] * m["per_frame"]["count"] - sum(on)) < 1e-6, (m, on)
+assert m["frames_with_any"] == sum(o > 0 for o in on) and m["support_per_frame"]["mean"] >= m["per_frame"]["mean"]
+l = s["landmarks_created_on_moving_objects"]
+assert l["created"] >= l["support_on_moving_objects"] >= l["on_moving_objects"] >= 0, l
+assert sum(int(r["new_landmarks_on_movers"]) for r in rows) == l["on_moving_objects"], l
+assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone seeds hundreds
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame

@@ -162,6 +162,13 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   record->reference_keyframe = result.reference_keyframe;
   record->new_keyframe = result.new_keyframe != kNoKeyframe;
 
+  if (record_keypoints_) {
+    const FrameFeatures& f = *tracker_.last_frame().features;
+    if (result.pose_valid) {  // last_frame() is this frame.
+      for (int i : result.inlier_keypoints) record->inliers.push_back(f.keypoint(i));
+      for (int i : result.new_landmark_keypoints) record->new_landmarks.push_back(f.keypoint(i));
+    }
+  }
   if (result.pose_valid) {
     const Rigid3d reference_pose = map_.Read([&](const MapData& map) {
       return map.HasKeyframe(result.reference_keyframe)

@@ -69,6 +69,8 @@ struct FrameRecord {
   FrameTiming timing;
   std::vector<bool> keep;  // Filter decision per detected keypoint (empty without a filter).
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
+  std::vector<cv::KeyPoint> inliers;   // The keypoints the pose rests on (only when record_keypoints).
+  std::vector<cv::KeyPoint> new_landmarks;  // Keypoints that became landmarks (only when record_keypoints).
   // The filter's per-cue flags (KeypointFilter::CueFlags), only when record_keypoints.
   std::vector<std::pair<std::string, std::vector<bool>>> cue_flags;
   cv::Mat filter_overlay;              // The filter's drawing (only when record_overlays).

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
@@ -125,6 +126,30 @@ TEST(System, NeverInitializesFromAFrameTheFilterCouldNotJudge) {
   EXPECT_TRUE(second.new_keyframe);
   EXPECT_EQ(second.num_filtered, 0);
   EXPECT_EQ(system.KeyframeTrajectory().size(), 1u);
+}
+
+TEST(System, RecordsTheKeypointsThePoseRestsOnAndTheNewLandmarks) {
+  FeatureWorld world(1);
+  cv::Mat gray = MakeSyntheticTexture(cv::Size(640, 480), 11), bgr;
+  cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
+  const cv::Mat depth(480, 640, CV_32F, cv::Scalar(2.f));
+  System system(Options(world, RunMode::kSequential));
+  system.set_record_keypoints(true);
+  const FrameRecord first = system.ProcessFrame(0.0, bgr, depth);
+  ASSERT_TRUE(first.new_keyframe);
+  EXPECT_TRUE(first.inliers.empty());                      // The first keyframe is not tracked ...
+  EXPECT_EQ(first.new_landmarks.size(), first.detected.size());  // ... every keypoint with depth seeds the map.
+  const FrameRecord second = system.ProcessFrame(1.0 / 30.0, bgr, depth);
+  ASSERT_TRUE(second.pose_valid);
+  EXPECT_EQ(static_cast<int>(second.inliers.size()), second.num_inliers);
+  EXPECT_GT(second.num_inliers, 500);
+  for (const cv::KeyPoint& k : second.inliers) {  // Each is one of the frame's keypoints.
+    EXPECT_TRUE(std::any_of(second.detected.begin(), second.detected.end(),
+                            [&k](const cv::KeyPoint& d) { return d.pt == k.pt && d.octave == k.octave; }));
+  }
+  System quiet(Options(world, RunMode::kSequential));  // Not recorded unless asked.
+  quiet.ProcessFrame(0.0, bgr, depth);
+  EXPECT_TRUE(quiet.ProcessFrame(1.0 / 30.0, bgr, depth).inliers.empty());
 }
 
 TEST(System, RejectsBadImages) {

@@ -37,7 +37,7 @@ Tracker::Tracker(const RgbdSensor& sensor, const TrackerOptions& options, Map* m
 TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   TrackingResult result;
   if (state_ == TrackingState::kNotInitialized) {
-    if (Initialize(&frame)) {
+    if (Initialize(&frame, &result.new_landmark_keypoints)) {
       state_ = TrackingState::kOk;
       result.new_keyframe = reference_keyframe_;
       result.pose_valid = true;
@@ -82,7 +82,12 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     if (last_frame_.features) velocity_ = frame.cam_from_world * last_frame_.cam_from_world.Inverse();
     result.pose_valid = true;
     result.cam_from_world = frame.cam_from_world;
-    if (NeedNewKeyframe(frame, inliers, mapper_idle)) result.new_keyframe = CreateKeyframe(&frame, false);
+    for (size_t i = 0; i < frame.landmarks.size(); ++i) {
+      if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) result.inlier_keypoints.push_back(static_cast<int>(i));
+    }
+    if (NeedNewKeyframe(frame, inliers, mapper_idle)) {
+      result.new_keyframe = CreateKeyframe(&frame, false, &result.new_landmark_keypoints);
+    }
     // Outliers do not carry over to the next frame's motion-model search.
     for (size_t i = 0; i < frame.landmarks.size(); ++i) {
       if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
@@ -95,7 +100,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   return result;
 }
 
-bool Tracker::Initialize(Frame* frame) {
+bool Tracker::Initialize(Frame* frame, std::vector<int>* created) {
   const FrameFeatures& f = *frame->features;
   int with_depth = 0;
   for (int i = 0; i < f.size(); ++i) with_depth += f.HasDepth(i) ? 1 : 0;
@@ -104,7 +109,7 @@ bool Tracker::Initialize(Frame* frame) {
   // a close person's keypoints and the far wall was beyond the depth range.
   if (f.size() < options_.min_init_points || with_depth < options_.min_init_depth_points) return false;
   frame->cam_from_world = Rigid3d::Identity();
-  CreateKeyframe(frame, /*all_depth_points=*/true);
+  CreateKeyframe(frame, /*all_depth_points=*/true, created);
   return true;
 }
 
@@ -246,7 +251,7 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle)
   return (c1a || c1b || c1c) && c2;
 }
 
-KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points) {
+KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created) {
   const FrameFeatures& f = *frame->features;
   // Keypoints with depth, nearest first.
   std::vector<int> by_depth;
@@ -282,6 +287,7 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points) {
         map.UpdateLandmarkGeometry(lm_id);
         map.UpdateLandmarkDescriptor(lm_id);
         frame->SetMatch(i, lm_id, map.landmark(lm_id).point_in_world);
+        if (created != nullptr) created->push_back(i);
       }
       ++points;
       if (!all_depth_points && f.depth(i) > sensor_.th_depth_m && points > options_.new_close_points) break;

@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dynorb/map/map.h"
 #include "dynorb/tracking/frame.h"
@@ -32,6 +33,8 @@ struct TrackingResult {
   int num_inliers = 0;
   bool relocalized = false;
   double local_map_ms = 0.0;               // Time spent on local-map tracking.
+  std::vector<int> inlier_keypoints;       // Keypoints the final pose rests on (frame feature indices).
+  std::vector<int> new_landmark_keypoints;  // Keypoints that became new landmarks (new keyframe).
 };
 
 class Tracker {
@@ -46,7 +49,7 @@ class Tracker {
   const Frame& last_frame() const { return last_frame_; }
 
  private:
-  bool Initialize(Frame* frame);
+  bool Initialize(Frame* frame, std::vector<int>* created);
   bool TrackWithMotionModel(Frame* frame);
   bool TrackReferenceKeyframe(Frame* frame);
   bool Relocalize(Frame* frame);
@@ -55,7 +58,8 @@ class Tracker {
   bool NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle) const;
   // Inserts the frame as a keyframe and creates landmarks from its depth: every keypoint with depth
   // (first keyframe) or the nearest ones until new_close_points beyond th_depth (ORB-SLAM2).
-  KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points);
+  // `created` (optional) receives the indices of the keypoints that became new landmarks.
+  KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created = nullptr);
   void RefreshLandmarkPoints(Frame* frame) const;
 
   RgbdSensor sensor_;
