@@ -46,13 +46,28 @@ std::string UtcNow() {
   return text;
 }
 
-// Generates one synthetic sequence into its cache folder unless it is there already. The
+// Generates one synthetic sequence into its cache folder unless it is there already (from this
+// generator version). The
 // generator writes into a temporary sibling that is renamed when complete, so an interrupted
 // generation is redone, never reused half-written.
+// A cached sequence is reused only when its scene.yaml says it was made by this generator version
+// (synth::kSynthVersion); older ones are generated again.
+bool CachedSequenceIsCurrent(const std::string& dataset) {
+  if (!fs::exists(fs::path(dataset) / "rgb.txt")) return false;
+  std::ifstream scene(fs::path(dataset) / "scene.yaml");
+  std::string line;
+  const std::string wanted = std::string("synth_version: ") + synth::kSynthVersion;
+  while (std::getline(scene, line)) {
+    if (line.rfind("synth_version:", 0) == 0) return line == wanted;
+  }
+  return false;
+}
+
 void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
-  if (fs::exists(fs::path(seq.dataset) / "rgb.txt")) return;
+  if (CachedSequenceIsCurrent(seq.dataset)) return;
   const std::string temp = seq.dataset + ".partial";
   std::error_code ec;
+  fs::remove_all(seq.dataset, ec);
   fs::remove_all(temp, ec);
   fs::create_directories(fs::path(seq.dataset).parent_path(), ec);
   synth::SynthOptions o;

@@ -215,6 +215,11 @@ for stats in (d, now):
 still = [l for l in open(os.path.join(sys.argv[2], "objects.txt")) if not l.startswith("#") and l.split()[2] == "0"]
 assert still or now["ignored"] == 0, now
 EOF
+# A cached sequence from another generator version is generated again, not reused.
+sed -i 's/^synth_version: .*/synth_version: 0/' "$OUT/cache/walking_xyz_s3_f14/scene.yaml"
+run_bench >"$DIR/run1v.txt" 2>&1 || fail "run 1v: $(cat "$DIR/run1v.txt")"
+grep -q '^synth_version: 0' "$OUT/cache/walking_xyz_s3_f14/scene.yaml" && fail "a stale cached sequence was reused"
+grep -q '^synth_version: [1-9]' "$OUT/cache/walking_xyz_s3_f14/scene.yaml" || fail "the regenerated scene.yaml has no version"
 # A result written by another build is run again, not resumed.
 /usr/bin/python3 - "$OUT/runs/syn_twin/plain/seed1/stats.json" <<'EOF' || fail "rewrite build_id"
 import json, sys

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace dynorb::synth {
@@ -93,6 +94,31 @@ Eigen::Vector2d KeyframePath::Heading(double t) const {
   return Eigen::Vector2d::UnitX();
 }
 
+double KeyframePath::RestSince(double t) const {
+  if (keys_.empty()) return t;
+  if (t <= keys_.front().t) return keys_.front().t;
+  auto rests = [this](size_t i) { return (keys_[i + 1].p - keys_[i].p).norm() < 1e-9; };
+  size_t i = Segment(t);
+  if (i + 1 >= keys_.size()) {  // After the last key: at rest since it (and any rest before it).
+    i = keys_.size() - 1;
+  } else if (!rests(i)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  while (i > 0 && rests(i - 1)) --i;
+  return keys_[i].t;
+}
+
+double KeyframePath::LastRestEnd(double t) const {
+  if (keys_.size() < 2 || t <= keys_.front().t) return std::numeric_limits<double>::quiet_NaN();
+  auto rests = [this](size_t i) { return (keys_[i + 1].p - keys_[i].p).norm() < 1e-9; };
+  size_t i = Segment(t);
+  while (i > 0) {
+    --i;
+    if (rests(i)) return keys_[i + 1].t;
+  }
+  return keys_.front().t;  // It stood at its first key until it set off.
+}
+
 Movers::Movers(const Office& office, bool sitting, int num_people, double duration_s, uint64_t seed,
                std::vector<PersonLook> looks)
     : office_(&office), looks_(std::move(looks)) {
@@ -169,7 +195,7 @@ Movers::Movers(const Office& office, bool sitting, int num_people, double durati
   }
 }
 
-void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position,
+void Movers::AppendQuads(double t, const std::function<Eigen::Vector3d(double)>& camera_position_at,
                          std::vector<DrawQuad>* quads) const {
   for (size_t i = 0; i < people_.size(); ++i) {
     const KeyframePath& path = people_[i];
@@ -180,10 +206,23 @@ void Movers::AppendQuads(double t, const Eigen::Vector3d& camera_position,
     const double bob = 0.025 * std::abs(std::sin(kPi * dist / 0.75));
     const double height = heights_[i];
     const double width = height * first->width() / first->height();
-    // Billboard through the body centre, facing the camera.
-    Eigen::Vector2d to_cam = (camera_position - p).head<2>();
-    if (to_cam.norm() < 1e-3) to_cam = Eigen::Vector2d::UnitY();
-    to_cam.normalize();
+    // Billboard through the body centre, facing the camera; at rest, facing where the camera was
+    // when the rest began; walking off, turning from there back to the camera.
+    auto bearing_to_camera = [&](double when) {
+      const Eigen::Vector2d d = (camera_position_at(std::max(0.0, when)) - p).head<2>();
+      return d.norm() < 1e-3 ? kPi / 2 : std::atan2(d.y(), d.x());
+    };
+    const double rest_since = path.RestSince(t);
+    double bearing = bearing_to_camera(std::isnan(rest_since) ? t : rest_since);
+    if (std::isnan(rest_since)) {
+      const double rest_end = path.LastRestEnd(t);
+      if (!std::isnan(rest_end) && t - rest_end < kTurnBackS) {
+        const double from = bearing_to_camera(path.RestSince(rest_end - 1e-9));
+        const double turn = std::remainder(bearing - from, 2.0 * kPi);
+        bearing = from + Smooth((t - rest_end) / kTurnBackS) * turn;
+      }
+    }
+    const Eigen::Vector2d to_cam(std::cos(bearing), std::sin(bearing));
     const Eigen::Vector3d right(-to_cam.y(), to_cam.x(), 0.0);  // as seen from the camera
     const bool mirror = path.Heading(t).dot(right.head<2>()) < 0.0;
     const size_t phase =

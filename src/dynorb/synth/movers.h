@@ -5,13 +5,17 @@
 //
 // People are vertical billboards facing the camera, textured with RGBA cut-outs of real people
 // (or procedural articulated figures), mirrored by walking direction, bobbing while they walk;
-// the renderer gives them a body-shaped depth bulge. Object ids (mask values): people 1..3,
+// the renderer gives them a body-shaped depth bulge. A person who stands still keeps the
+// orientation they had when they stopped (a card that kept turning towards a moving camera would
+// be a slowly rotating, i.e. moving, object while objects.txt calls it still); on walking off they
+// turn back towards the camera within kTurnBackS. Object ids (mask values): people 1..3,
 // pushed box 4, desk item 5. Everything is a deterministic function of time. Immutable after
 // construction; thread-safe.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,6 +27,7 @@ namespace dynorb::synth {
 
 constexpr int kPushedBoxId = 4;
 constexpr int kDeskItemId = 5;
+constexpr double kTurnBackS = 0.5;  // A person walking off turns back to the camera within this.
 
 // Piecewise-linear motion through timed keyframes (position + yaw about z); before the first
 // and after the last keyframe the object rests. `eased` uses smoothstep between keys (pushes).
@@ -37,6 +42,11 @@ class KeyframePath {
   // Distance travelled up to t (drives the gait) and the last non-zero horizontal direction.
   double Distance(double t_s) const;
   Eigen::Vector2d Heading(double t_s) const;
+  // At rest at t (before the first key, after the last, or between two keys at the same place):
+  // the time the rest began (clamped to >= first key time). Moving: NaN.
+  double RestSince(double t_s) const;
+  // Moving at t: the end time of the latest rest before t (NaN when it never rested before).
+  double LastRestEnd(double t_s) const;
 
  private:
   struct Key {
@@ -66,8 +76,9 @@ class Movers {
   Movers(const Office& office, bool sitting, int num_people, double duration_s, uint64_t seed,
          std::vector<PersonLook> looks);
 
-  // Appends all moving objects at time t; billboards face `camera_position`.
-  void AppendQuads(double t_s, const Eigen::Vector3d& camera_position,
+  // Appends all moving objects at time t. `camera_position_at(t)`: the camera centre at any time
+  // (billboards face it; a resting person faces where it was when they stopped).
+  void AppendQuads(double t_s, const std::function<Eigen::Vector3d(double)>& camera_position_at,
                    std::vector<DrawQuad>* quads) const;
   std::vector<ObjectState> States(double t_s) const;
   const std::vector<double>& person_heights() const { return heights_; }

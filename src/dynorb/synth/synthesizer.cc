@@ -154,7 +154,7 @@ SynthFrame SequenceSynth::RenderFrame(int index, Renderer* renderer) const {
   frame.world_from_cam = path_->WorldFromCam(t);
   std::vector<DrawQuad> quads = office_->scene.static_quads;
   if (!options_.static_twin) {
-    movers_->AppendQuads(t, frame.world_from_cam.translation, &quads);
+    movers_->AppendQuads(t, [this](double when) { return path_->WorldFromCam(when).translation; }, &quads);
     frame.objects = movers_->States(t);
   }
   RenderedFrame rendered;

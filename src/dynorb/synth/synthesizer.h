@@ -27,7 +27,7 @@
 namespace dynorb::synth {
 
 inline constexpr const char* kDefaultTextureDir = "/usr/share/doc/opencv-doc/examples/data";
-inline constexpr const char* kSynthVersion = "1";
+inline constexpr const char* kSynthVersion = "2";  // 2: people at rest keep their orientation.
 
 struct SynthOptions {
   std::string preset = "walking_xyz";  // one of Presets() (camera motion, duration, people mode)
