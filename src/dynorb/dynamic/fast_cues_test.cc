@@ -360,6 +360,30 @@ TEST(WarpResidual, ToleranceScaleAndMismatch) {
 }
 
 // Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
+// The windowed upsampling + dilation equals upsampling and dilating the whole image.
+TEST(UpsampleAndDilate, SameAsWholeImageUpsampleAndDilate) {
+  cv::RNG rng(5);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int scale = trial % 2 ? 4 : 3, radius = trial % 7;
+    const cv::Size full(641 - trial % 3, 479 + trial % 2);  // not always a multiple of the scale
+    const cv::Size low((full.width + scale - 1) / scale, (full.height + scale - 1) / scale);
+    cv::Mat low_mask = cv::Mat::zeros(low, CV_8U);
+    for (int blob = 0; blob < trial % 4; ++blob) {  // 0-3 blobs, some at the image border
+      const cv::Point c(rng.uniform(0, low.width), rng.uniform(0, low.height));
+      cv::ellipse(low_mask, c, cv::Size(rng.uniform(1, 20), rng.uniform(1, 30)), 0, 0, 360, cv::Scalar(255), cv::FILLED);
+    }
+    cv::Mat expected;
+    cv::resize(low_mask, expected, cv::Size(low.width * scale, low.height * scale), 0, 0, cv::INTER_NEAREST);
+    expected = expected(cv::Rect(0, 0, full.width, full.height)).clone();
+    if (radius > 0) {
+      cv::dilate(expected, expected, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
+    }
+    const cv::Mat got = UpsampleAndDilate(low_mask, scale, full, radius);
+    ASSERT_EQ(got.size(), full);
+    EXPECT_EQ(cv::countNonZero(got != expected), 0) << "trial " << trial;
+  }
+}
+
 TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
   cv::Mat depth = PlaneDepth(3.f);
   const cv::Rect person(200, 100, 120, 300);

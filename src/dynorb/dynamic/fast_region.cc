@@ -31,6 +31,31 @@ cv::Mat DownsampleDepth(const cv::Mat& depth_m, int scale, float max_depth_m) {
   return low;
 }
 
+cv::Mat UpsampleAndDilate(const cv::Mat& low_mask, int scale, cv::Size full_size, int dilate_px) {
+  cv::Mat full = cv::Mat::zeros(full_size, CV_8U);
+  const cv::Rect box = cv::boundingRect(low_mask);
+  if (box.empty()) return full;
+  // The set blocks, cropped to the image.
+  const cv::Rect image(0, 0, full_size.width, full_size.height);
+  const cv::Rect blocks = cv::Rect(box.x * scale, box.y * scale, box.width * scale, box.height * scale) & image;
+  if (blocks.empty()) return full;
+  cv::Mat up;
+  cv::resize(low_mask(box), up, cv::Size(box.width * scale, box.height * scale), 0, 0, cv::INTER_NEAREST);
+  up(cv::Rect(0, 0, blocks.width, blocks.height)).copyTo(full(blocks));
+  if (dilate_px > 0) {
+    // Outside this window every pixel is farther than the radius from a set one, so stays 0.
+    const cv::Rect window =
+        cv::Rect(blocks.x - dilate_px, blocks.y - dilate_px, blocks.width + 2 * dilate_px,
+                 blocks.height + 2 * dilate_px) & image;
+    const int k = 2 * dilate_px + 1;
+    cv::Mat dilated;
+    cv::dilate(full(window), dilated, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)), cv::Point(-1, -1),
+               1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
+    dilated.copyTo(full(window));
+  }
+  return full;
+}
+
 RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vector<RegionPoint>& seeds,
                          const std::vector<RegionPoint>& statics, const cv::Mat& suspect_low,
                          const RegionOptions& options) {
@@ -125,13 +150,7 @@ RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vect
       if (label >= 0 && accepted[label]) result.low_mask.at<uint8_t>(y, x) = 255;
     }
   }
-  cv::Mat full;
-  cv::resize(result.low_mask, full, cv::Size(low_size.width * s, low_size.height * s), 0, 0, cv::INTER_NEAREST);
-  result.mask = full(cv::Rect(0, 0, full_size.width, full_size.height)).clone();
-  if (options.dilate_px > 0 && result.num_accepted > 0) {
-    const int k = 2 * options.dilate_px + 1;
-    cv::dilate(result.mask, result.mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));
-  }
+  result.mask = UpsampleAndDilate(result.low_mask, s, full_size, result.num_accepted > 0 ? options.dilate_px : 0);
   return result;
 }
 

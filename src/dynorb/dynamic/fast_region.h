@@ -52,6 +52,12 @@ struct RegionResult {
 // (0, max_depth_m] become 0.
 cv::Mat DownsampleDepth(const cv::Mat& depth_m, int scale, float max_depth_m);
 
+// The full-resolution mask of a 1/scale mask: nearest-neighbour upsampling (each low pixel a
+// scale×scale block, cropped to full_size), then dilation with an elliptic disc of radius
+// dilate_px (0: none). Works only inside the bounding box of the set pixels (grown by the radius):
+// the same result as upsampling and dilating the whole image, at a fraction of the cost.
+cv::Mat UpsampleAndDilate(const cv::Mat& low_mask, int scale, cv::Size full_size, int dilate_px);
+
 // low_depth: DownsampleDepth(depth, options.scale, ...); full_size: the image size.
 // suspect_low: CV_8U at 1/scale (255 = suspect), or empty.
 RegionResult GrowRegions(const cv::Mat& low_depth, cv::Size full_size, const std::vector<RegionPoint>& seeds,
