@@ -100,6 +100,7 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   j["description"] = plan.suite.description;
   j["seeds"] = seeds;
   j["run_mode"] = plan.suite.run_mode;
+  j["pipeline"] = plan.suite.pipeline;
   j["sequences"] = nlohmann::json::array();
   for (const BenchSequenceRun& s : plan.sequences) {
     j["sequences"].push_back({{"name", s.name},
@@ -273,6 +274,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       request.out = run.out_dir;
       request.mode = run.mode->name;
       request.run_mode = plan.suite.run_mode;
+      request.pipeline = plan.suite.pipeline;
       request.seed = run.seed;
       request.frames = seq.frames;
       request.models = options.models;

@@ -28,6 +28,10 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")
       ->check(CLI::IsMember({"sequential", "parallel"}));
+  cmd->add_flag("--pipeline,!--no-pipeline", cli->pipeline,
+               "Start the next frame's detection/filter/description on a second thread while this frame is tracked "
+               "(default; deterministic; the filter's motion prediction is one frame older). --no-pipeline: one "
+               "frame at a time");
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");
   cmd->add_option("--frames", cli->frames, "Frame range A:B (0-based, B exclusive; either side may be empty)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -184,8 +185,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     }
     return loaded;
   });
-  for (size_t i = first; i < last; ++i) {
-    const LoadedFrame loaded = frames.Next();
+  auto load_checked = [&](size_t i) {
+    LoadedFrame loaded = frames.Next();
     const RgbdFrame& frame = loaded.frame;
     if (frame.rgb.cols != options.sensor.camera.width || frame.rgb.rows != options.sensor.camera.height) {
       throw InputError(sequence.ResolvePath(sequence.entries()[i].rgb_path) + ": image is " +
@@ -193,10 +194,30 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                        " says " + std::to_string(options.sensor.camera.width) + "x" +
                        std::to_string(options.sensor.camera.height));
     }
-    // The filter draws its overlay only on the frames that are saved (the drawing is timed).
-    const bool save_overlay = !cli.overlays.empty() && (i - first) % static_cast<size_t>(cli.overlay_every) == 0;
+    return loaded;
+  };
+  // The filter draws its overlay only on the frames that are saved (the drawing is timed).
+  auto wants_overlay = [&](size_t i) {
+    return !cli.overlays.empty() && (i - first) % static_cast<size_t>(cli.overlay_every) == 0;
+  };
+  std::optional<LoadedFrame> upcoming;
+  if (first < last) upcoming = load_checked(first);
+  for (size_t i = first; i < last; ++i) {
+    const LoadedFrame loaded = std::move(*upcoming);
+    upcoming.reset();
+    if (i + 1 < last) upcoming = load_checked(i + 1);  // Pipelining: the next frame's front end starts now.
+    const RgbdFrame& frame = loaded.frame;
+    const bool save_overlay = wants_overlay(i);
     system.set_record_overlays(save_overlay);
-    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m);
+    System::NextFrame next;
+    if (cli.pipeline && upcoming) {
+      next.timestamp_s = upcoming->frame.timestamp_s;
+      next.bgr = upcoming->frame.rgb;
+      next.depth_m = upcoming->frame.depth_m;
+      next.want_overlay = wants_overlay(i + 1);
+    }
+    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m,
+                                                    cli.pipeline && upcoming ? &next : nullptr);
     if (masks) {
       // Every frame counts here, judged or not: a mover the pose rests on is a mover.
       const KeypointsOnObjects on = CountOnObjects(record.inliers, loaded.mask, loaded.still, level_scale);
@@ -243,6 +264,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.config = config_path;
   inputs.mode = cli.mode;
   inputs.run_mode = cli.run_mode;
+  inputs.pipeline = cli.pipeline;
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;

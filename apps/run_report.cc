@@ -54,7 +54,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   bool was_lost = false;
   std::map<std::string, std::vector<double>> filter_stages;  // Name order: deterministic JSON.
   std::vector<double> refill, refilled;
-  std::vector<double> detect, filter, describe, track, local_map, mapping, total, keypoints, filtered, inliers;
+  std::vector<double> detect, filter, describe, track, local_map, mapping, total, latency, keypoints, filtered, inliers;
   for (const FrameRecord& r : records) {
     tracked += r.pose_valid ? 1 : 0;
     const bool lost = r.state == TrackingState::kLost;
@@ -72,6 +72,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     local_map.push_back(r.timing.local_map_ms);
     mapping.push_back(r.timing.mapping_ms);
     total.push_back(r.timing.total_ms);
+    latency.push_back(r.timing.latency_ms);
     keypoints.push_back(r.num_keypoints);
     filtered.push_back(r.num_filtered);
     inliers.push_back(r.num_inliers);
@@ -88,6 +89,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["mode"] = inputs.mode;
   j["build_id"] = BuildId();
   j["run_mode"] = inputs.run_mode;
+  j["pipeline"] = inputs.pipeline;
   j["seed"] = inputs.seed;
   j["first_frame"] = inputs.first_frame;
   j["frames"] = records.size();
@@ -107,7 +109,8 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["timing_ms"] = {{"detect", StatsJson(detect)},     {"filter", StatsJson(filter)},     {"refill", StatsJson(refill)},
                     {"describe", StatsJson(describe)}, {"track", StatsJson(track)},
                     {"local_map", StatsJson(local_map)}, {"mapping_inline", StatsJson(mapping)},
-                    {"frame_total", StatsJson(total)}, {"mapper_per_keyframe", StatsJson(mapper_ms)},
+                    {"frame_total", StatsJson(total)}, {"frame_latency", StatsJson(latency)},
+                    {"mapper_per_keyframe", StatsJson(mapper_ms)},
                     {"local_ba_per_keyframe", StatsJson(ba_ms)}};
   if (!filter_stages.empty()) {
     nlohmann::json stages = nlohmann::json::object();

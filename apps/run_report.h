@@ -14,6 +14,7 @@ namespace dynorb {
 struct RunSummaryInputs {
   std::string dataset, config, mode, run_mode;
   uint64_t seed = 0;
+  bool pipeline = false;  // RunRequest::pipeline
   size_t first_frame = 0;
   double wall_seconds = 0.0;
 };

@@ -188,6 +188,23 @@ assert overlay["median"] == 0 and overlay["max"] > 0, overlay  # drawn on 3 of 1
 EOF
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov0" --quiet \
   --save-overlays "$DIR/fastov0/overlays" --overlay-every 0 >/dev/null 2>&1 && fail "--overlay-every 0 accepted"
+# Pipelining (the default) is deterministic; --no-pipeline runs one frame at a time.
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun2" --quiet >/dev/null 2>&1 ||
+  fail "second fast run"
+cmp -s "$DIR/fastrun/trajectory.txt" "$DIR/fastrun2/trajectory.txt" || fail "pipelined fast runs differ"
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastnp" --quiet --no-pipeline \
+  >/dev/null 2>&1 || fail "fast run --no-pipeline"
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/fastnp/stats.json" <<'EOF' || fail "pipeline flag"
+import json, sys
+piped, single = (json.load(open(f)) for f in sys.argv[1:3])
+assert piped["pipeline"] is True and single["pipeline"] is False, (piped["pipeline"], single["pipeline"])
+for s in (piped, single):
+    t = s["timing_ms"]
+    assert t["frame_latency"]["count"] == s["frames"] and t["frame_latency"]["mean"] > 0, t["frame_latency"]
+# Without pipelining the caller waits for the whole frame: total = latency (to timer resolution).
+t = single["timing_ms"]
+assert abs(t["frame_total"]["mean"] - t["frame_latency"]["mean"]) < 0.05 * t["frame_latency"]["mean"], t
+EOF
 /usr/bin/python3 - "$DIR/fastrun/frames.csv" <<'EOF' || fail "fast frames.csv: the first frame is not judged"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

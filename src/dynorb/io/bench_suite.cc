@@ -130,7 +130,7 @@ class Parser {
 
   BenchSuite Suite(const YAML::Node& root) const {
     if (!root || root.IsNull()) throw InputError(source_ + ": empty suite file");
-    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "sequences", "modes"},
+    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "sequences", "modes"},
               "the suite");
     BenchSuite suite;
     suite.file = source_;
@@ -149,6 +149,7 @@ class Parser {
              "'run_mode' must be sequential or parallel, got '" + suite.run_mode + "'");
       }
     }
+    if (root["pipeline"]) suite.pipeline = Bool(root["pipeline"], "pipeline");
     const YAML::Node seqs = root["sequences"];
     if (!seqs || !seqs.IsSequence() || seqs.size() == 0) {
       Fail(seqs ? seqs : root, "the suite needs a non-empty list 'sequences'");

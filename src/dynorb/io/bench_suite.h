@@ -59,6 +59,7 @@ struct BenchSuite {
   int repeats = 1;
   std::vector<uint64_t> seeds;  // explicit SLAM seeds; empty: 1..repeats
   std::string run_mode = "sequential";
+  bool pipeline = true;  // `dynorb run --pipeline` (the default) or --no-pipeline.
   std::vector<BenchSequence> sequences;
   std::vector<BenchMode> modes;
 

@@ -64,6 +64,9 @@ TEST(BenchSuite, ExplicitSeeds) {
   EXPECT_EQ(suite.name, "s");
   EXPECT_EQ(suite.RunSeeds(0), (std::vector<uint64_t>{7, 11}));
   EXPECT_EQ(suite.RunSeeds(1), (std::vector<uint64_t>{1}));
+  EXPECT_TRUE(suite.pipeline);  // `dynorb run`'s default.
+  EXPECT_FALSE(ParseBenchSuite("pipeline: false\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
+                   .pipeline);
 }
 
 TEST(BenchSuite, BadSuitesNameFileAndLine) {
@@ -94,6 +97,8 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("duplicate mode 'plain'"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nrun_mode: fast\n"),
               HasSubstr("suite.yaml:3: 'run_mode' must be sequential or parallel"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline: maybe\n"),
+              HasSubstr("suite.yaml:3: 'pipeline' expects true or false"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nmodez: [fast]\n"),
               HasSubstr("suite.yaml:3: unknown key 'modez' in the suite"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}\n"), HasSubstr("invalid YAML"));

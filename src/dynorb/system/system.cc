@@ -35,6 +35,7 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
 System::~System() { Finish(); }
 
 void System::Finish() {
+  if (pending_.valid()) pending_.wait();  // A front end nobody will ask for; its result is dropped.
   if (finished_) return;
   finished_ = true;
   queue_.Close();
@@ -54,15 +55,69 @@ void System::MapperLoop() {
   }
 }
 
-const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
-                                        const cv::Mat& depth_m) {
+namespace {
+
+void CheckImages(const cv::Mat& bgr, const cv::Mat& depth_m) {
   if (bgr.type() != CV_8UC3 || depth_m.type() != CV_32FC1 || bgr.size() != depth_m.size()) {
     throw InputError(
         "ProcessFrame expects a CV_8UC3 image and a CV_32FC1 depth map of the same size");
   }
+}
+
+}  // namespace
+
+const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
+                                        const cv::Mat& depth_m, const NextFrame* next) {
+  CheckImages(bgr, depth_m);
+  if (next != nullptr) CheckImages(next->bgr, next->depth_m);
+  Stopwatch call;
+  FrontEnd front;
+  if (pending_.valid()) {
+    if (pending_timestamp_s_ != timestamp_s) {
+      throw std::logic_error("ProcessFrame: this is not the frame announced as `next` by the previous call");
+    }
+    front = pending_.get();
+    front.record.pipelined = true;
+  } else {
+    front = RunFrontEnd(next_frame_id_, timestamp_s, bgr, depth_m, last_velocity_,
+                        tracker_.state() != TrackingState::kNotInitialized, record_overlays_);
+  }
+  if (next != nullptr) {
+    // Started before this frame is tracked: the velocity and tracker state of the frame before.
+    pending_timestamp_s_ = next->timestamp_s;
+    pending_ = std::async(std::launch::async,
+                          [this, id = next_frame_id_ + 1, frame = *next, velocity = last_velocity_,
+                           initialized = tracker_.state() != TrackingState::kNotInitialized] {
+                            return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity,
+                                               initialized, frame.want_overlay);
+                          });
+  }
+
+  Stopwatch back_end;
+  FrameRecord& record = front.record;
+  std::shared_ptr<const FrameFeatures> features = std::move(front.features);
+  // Never initialize the map from a frame the filter could not judge: withhold its keypoints.
+  if (!record.judged && front.withheld && tracker_.state() == TrackingState::kNotInitialized) {
+    features = std::move(front.withheld);
+    record.keep.assign(record.keep.size(), false);
+    record.num_filtered = static_cast<int>(record.keep.size());
+    record.num_refilled = 0;
+  }
+  Track(&record, std::move(features));
+  record.timing.latency_ms = front.ms + back_end.ElapsedMs();
+  record.timing.total_ms = call.ElapsedMs();
+  if (!records_.empty()) records_.back().filter_overlay.release();  // Keep only the latest drawing.
+  records_.push_back(std::move(record));
+  return records_.back();
+}
+
+System::FrontEnd System::RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
+                                     const cv::Mat& depth_m, std::optional<Rigid3d> predicted_velocity,
+                                     bool tracker_initialized, bool want_overlay) {
   Stopwatch total;
-  FrameRecord record;
-  record.id = next_frame_id_;
+  FrontEnd front;
+  FrameRecord& record = front.record;
+  record.id = id;
   record.timestamp_s = timestamp_s;
   cv::Mat gray;
   cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
@@ -78,30 +133,34 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
   if (filter_) {
     watch.Restart();
     FilterInput input;
-    input.frame_id = record.id;
+    input.frame_id = id;
     input.timestamp_s = timestamp_s;
     input.bgr = &bgr;
     input.gray = &gray;
     input.depth_m = &depth_m;
     input.keypoints = &set;
-    input.predicted_cam_from_previous_cam = last_velocity_;
-    input.want_overlay = record_overlays_;
+    input.predicted_cam_from_previous_cam = predicted_velocity;
+    input.want_overlay = want_overlay;
     FilterOutput out = filter_->Filter(input);
     if (out.keep.size() != keep.size())
       throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
     record.judged = out.judged;
-    // Never initialize the map from a frame the filter could not judge: withhold its keypoints
-    // (and do not refill them either).
-    const bool withhold = !out.judged && tracker_.state() == TrackingState::kNotInitialized;
-    if (withhold) keep.assign(keep.size(), false);
     record.timing.filter_ms = watch.ElapsedMs();
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
     if (record_keypoints_) record.cue_flags = filter_->CueFlags();
-    if (record_overlays_) record.filter_overlay = out.overlay;
-    if (!withhold && options_.refill_filtered && record.num_filtered > 0 && filter_->MaskCoversDetections()) {
+    if (want_overlay) record.filter_overlay = out.overlay;
+    if (!out.judged) {
+      front.withheld = std::make_shared<const FrameFeatures>(
+          extractor_.DescribeKept(set, std::vector<bool>(set.size(), false)), depth_m, options_.sensor,
+          extractor_.levels());
+    }
+    // An unjudged frame is not refilled while the map is uninitialized (it will be withheld).
+    const bool may_be_withheld = !out.judged && !tracker_initialized;
+    if (!may_be_withheld && options_.refill_filtered && record.num_filtered > 0 &&
+        filter_->MaskCoversDetections()) {
       watch.Restart();
       cv::Mat exclude = out.dynamic_mask.empty() || out.dynamic_mask.size() != gray.size()
                             ? cv::Mat::zeros(gray.size(), CV_8U)
@@ -122,26 +181,23 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
   const OrbFeatures orb =
       use_refill ? extractor_.DescribeKept(refilled, std::vector<bool>(refilled.size(), true))
                  : extractor_.DescribeKept(set, keep);
-  auto features =
+  front.features =
       std::make_shared<const FrameFeatures>(orb, depth_m, options_.sensor, extractor_.levels());
   record.timing.describe_ms = watch.ElapsedMs();
-
-  Track(&record, std::move(features));
-  record.timing.total_ms = total.ElapsedMs();
-  if (!records_.empty()) records_.back().filter_overlay.release();  // Keep only the latest drawing.
-  records_.push_back(std::move(record));
-  return records_.back();
+  front.ms = total.ElapsedMs();
+  return front;
 }
 
 const FrameRecord& System::ProcessFeatures(double timestamp_s,
                                            std::shared_ptr<const FrameFeatures> features) {
+  if (pending_.valid()) throw std::logic_error("ProcessFeatures after a pipelined ProcessFrame");
   Stopwatch total;
   FrameRecord record;
   record.id = next_frame_id_;
   record.timestamp_s = timestamp_s;
   record.num_keypoints = features->size();
   Track(&record, std::move(features));
-  record.timing.total_ms = total.ElapsedMs();
+  record.timing.total_ms = record.timing.latency_ms = total.ElapsedMs();
   records_.push_back(std::move(record));
   return records_.back();
 }

@@ -1,6 +1,12 @@
 // System: the SLAM facade. Per frame: ORB detection -> optional KeypointFilter (dynamic modes)
 // -> description -> FrameFeatures -> Tracker::ProcessOne -> (new keyframe) LocalMapper.
 //
+// Pipelining (ProcessFrame with a `next` frame): the front end of the next frame (detection,
+// filter, description) runs on a worker thread while this frame is tracked and mapped, so the
+// filter's and detector's single-threaded parts overlap tracking and bundle adjustment. The next
+// frame's filter then gets the motion prediction from one frame earlier (the velocity known when
+// it was started), fixed by design: a pipelined sequential run is deterministic too.
+//
 // Run modes: kSequential runs the mapper inline right after the frame that created a keyframe
 // (deterministic: same input => bit-identical trajectory); kParallel runs it in a worker thread
 // fed by a bounded queue (ORB-SLAM2's threading; the Map's one lock keeps it consistent).
@@ -10,7 +16,9 @@
 #pragma once
 
 #include <atomic>
+#include <future>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -47,7 +55,10 @@ struct FrameTiming {
   double detect_ms = 0.0, filter_ms = 0.0, describe_ms = 0.0, track_ms = 0.0, local_map_ms = 0.0;
   double mapping_ms = 0.0;  // Inline mapping (sequential mode) after this frame.
   double refill_ms = 0.0;   // Second detection after filtering (SystemOptions::refill_filtered).
-  double total_ms = 0.0;
+  double total_ms = 0.0;     // What the caller waited in ProcessFrame: the per-frame cost that
+                             // bounds the frame rate (pipelined: the front end ran overlapped).
+  double latency_ms = 0.0;   // Front end + tracking + inline mapping of this frame (= total_ms
+                             // when not pipelined, apart from the wait for a late front end).
   std::vector<std::pair<std::string, double>> filter_stages_ms;  // KeypointFilter::StageTimings().
 };
 
@@ -64,6 +75,7 @@ struct FrameRecord {
   int num_refilled = 0;        // Keypoints used after the refill detection (0: no refill).
   int num_inliers = 0;
   bool new_keyframe = false;
+  bool pipelined = false;   // This frame's front end ran on the worker thread (pipelining).
   bool judged = true;       // The filter judged this frame (FilterOutput::judged); false: its
                             // keypoints were withheld if the map was not initialized yet.
   FrameTiming timing;
@@ -83,8 +95,19 @@ class System {
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
-  // bgr: CV_8UC3; depth_m: CV_32F metres (0 = none), same size.
-  const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m);
+  // A frame handed in ahead of its turn (ProcessFrame's `next`).
+  struct NextFrame {
+    double timestamp_s = 0.0;
+    cv::Mat bgr, depth_m;        // Shared, not copied: do not write into them until that frame
+                                 // has been processed.
+    bool want_overlay = false;   // Its filter overlay (set_record_overlays for that frame).
+  };
+  // bgr: CV_8UC3; depth_m: CV_32F metres (0 = none), same size. With `next` (pipelining), the
+  // front end of that frame starts on a worker thread before this frame is tracked; the next
+  // call must then pass that same frame (same timestamp), otherwise std::logic_error. Throws
+  // InputError for bad images (a bad `next` is reported by this call, before any work).
+  const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                  const NextFrame* next = nullptr);
   // Tracking from ready-made features (tests, external front ends).
   const FrameRecord& ProcessFeatures(double timestamp_s,
                                      std::shared_ptr<const FrameFeatures> features);
@@ -103,6 +126,17 @@ class System {
   void set_record_overlays(bool on) { record_overlays_ = on; }
 
  private:
+  // Everything before tracking: detection, the filter, refill, description. Touches only the
+  // extractor and the filter (never the tracker or the map), so it may run on the worker thread.
+  struct FrontEnd {
+    FrameRecord record;
+    std::shared_ptr<const FrameFeatures> features;
+    std::shared_ptr<const FrameFeatures> withheld;  // No keypoints; used when the filter could not
+                                                    // judge the frame and the map is not initialized.
+    double ms = 0.0;
+  };
+  FrontEnd RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
+                       std::optional<Rigid3d> predicted_velocity, bool tracker_initialized, bool want_overlay);
   void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features);
   void MapperLoop();
 
@@ -124,6 +158,9 @@ class System {
   mutable std::mutex stats_mutex_;
   std::vector<MapperStepStats> mapper_stats_;
   bool finished_ = false;
+  // The next frame's front end running on the worker thread (pipelining), and its timestamp.
+  std::future<FrontEnd> pending_;
+  double pending_timestamp_s_ = 0.0;
 };
 
 }  // namespace dynorb

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/error.h"
@@ -150,6 +151,112 @@ TEST(System, RecordsTheKeypointsThePoseRestsOnAndTheNewLandmarks) {
   System quiet(Options(world, RunMode::kSequential));  // Not recorded unless asked.
   quiet.ProcessFrame(0.0, bgr, depth);
   EXPECT_TRUE(quiet.ProcessFrame(1.0 / 30.0, bgr, depth).inliers.empty());
+}
+
+// Keeps every keypoint and records the motion prediction each frame was handed.
+class PredictionRecorder : public KeypointFilter {
+ public:
+  explicit PredictionRecorder(std::vector<std::optional<Rigid3d>>* seen) : seen_(seen) {}
+  std::string name() const override { return "prediction-recorder"; }
+  FilterOutput Filter(const FilterInput& input) override {
+    seen_->resize(std::max<size_t>(seen_->size(), input.frame_id + 1));
+    (*seen_)[input.frame_id] = input.predicted_cam_from_previous_cam;
+    FilterOutput out;
+    out.keep.assign(input.keypoints->keypoints.size(), true);
+    return out;
+  }
+
+ private:
+  std::vector<std::optional<Rigid3d>>* seen_;
+};
+
+// A camera sliding sideways 3 px per frame over a textured wall 2 m away.
+struct SlidingCamera {
+  cv::Mat texture;
+  SlidingCamera() {
+    const cv::Mat gray = MakeSyntheticTexture(cv::Size(640 + 3 * 40, 480), 5);
+    cv::cvtColor(gray, texture, cv::COLOR_GRAY2BGR);
+  }
+  cv::Mat Bgr(int k) const { return texture(cv::Rect(3 * k, 0, 640, 480)).clone(); }
+  cv::Mat Depth() const { return cv::Mat(480, 640, CV_32F, cv::Scalar(2.f)); }
+};
+
+struct PipelineRun {
+  Trajectory trajectory;
+  std::vector<std::optional<Rigid3d>> predictions;
+  std::vector<bool> pipelined;
+};
+
+PipelineRun RunSliding(bool pipelined, int frames) {
+  FeatureWorld world(1);
+  const SlidingCamera camera;
+  PipelineRun run;
+  System system(Options(world, RunMode::kSequential), std::make_unique<PredictionRecorder>(&run.predictions));
+  for (int k = 0; k < frames; ++k) {
+    System::NextFrame next{(k + 1) / 30.0, camera.Bgr(k + 1), camera.Depth(), false};
+    const FrameRecord& r =
+        system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), pipelined && k + 1 < frames ? &next : nullptr);
+    run.pipelined.push_back(r.pipelined);
+  }
+  system.Finish();
+  run.trajectory = system.FrameTrajectory();
+  return run;
+}
+
+TEST(System, PipeliningHandsTheFilterThePredictionOfTheFrameBefore) {
+  const PipelineRun plain = RunSliding(false, 8);
+  const PipelineRun piped = RunSliding(true, 8);
+  const PipelineRun again = RunSliding(true, 8);
+  ASSERT_EQ(plain.trajectory.size(), 8u);
+  ASSERT_EQ(piped.trajectory.size(), 8u);
+  ASSERT_EQ(piped.predictions.size(), 8u);
+  // The filter keeps everything, so tracking is the same; pipelined runs repeat bit for bit.
+  for (size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(plain.trajectory[i].world_from_cam.ToMatrix(), piped.trajectory[i].world_from_cam.ToMatrix()) << i;
+    EXPECT_EQ(again.trajectory[i].world_from_cam.ToMatrix(), piped.trajectory[i].world_from_cam.ToMatrix()) << i;
+    EXPECT_EQ(piped.pipelined[i], i > 0) << i;
+    EXPECT_FALSE(plain.pipelined[i]);
+  }
+  // The camera moves 3 px * 2 m / fx to the right per frame: cam_k_from_cam_{k-1} = -x.
+  const double step_m = 3.0 * 2.0 / FeatureWorld(1).sensor().camera.fx;
+  ASSERT_TRUE(plain.predictions[2].has_value());
+  EXPECT_NEAR(plain.predictions[2]->translation.x(), -step_m, 0.2 * step_m);
+  EXPECT_FALSE(plain.predictions[1].has_value());
+  EXPECT_FALSE(piped.predictions[2].has_value());  // Started before frame 1 was tracked.
+  for (size_t k = 2; k < 8; ++k) {  // One frame older: frame k gets what frame k-1 got without it.
+    ASSERT_EQ(piped.predictions[k].has_value(), plain.predictions[k - 1].has_value()) << k;
+    if (piped.predictions[k]) {
+      EXPECT_EQ(piped.predictions[k]->ToMatrix(), plain.predictions[k - 1]->ToMatrix()) << k;
+    }
+  }
+}
+
+TEST(System, PipeliningWithholdsAnUnjudgedFirstFrameToo) {
+  FeatureWorld world(1);
+  const SlidingCamera camera;
+  System system(Options(world, RunMode::kSequential), std::make_unique<UnjudgedFirstFrameFilter>());
+  System::NextFrame next{1.0 / 30.0, camera.Bgr(1), camera.Depth(), false};
+  const FrameRecord first = system.ProcessFrame(0.0, camera.Bgr(0), camera.Depth(), &next);
+  EXPECT_EQ(first.state, TrackingState::kNotInitialized);
+  EXPECT_EQ(first.num_filtered, first.num_keypoints);
+  const FrameRecord second = system.ProcessFrame(1.0 / 30.0, camera.Bgr(1), camera.Depth());
+  EXPECT_TRUE(second.pipelined);
+  EXPECT_EQ(second.state, TrackingState::kOk);
+  EXPECT_EQ(system.KeyframeTrajectory().size(), 1u);
+}
+
+TEST(System, PipeliningRejectsAFrameOtherThanTheAnnouncedOneAndBadLookahead) {
+  FeatureWorld world(1);
+  const SlidingCamera camera;
+  System system(Options(world, RunMode::kSequential));
+  System::NextFrame bad{1.0 / 30.0, cv::Mat(480, 640, CV_8UC1), camera.Depth(), false};
+  EXPECT_THROW(system.ProcessFrame(0.0, camera.Bgr(0), camera.Depth(), &bad), InputError);
+  EXPECT_TRUE(system.records().empty());  // Nothing done.
+  System::NextFrame next{1.0 / 30.0, camera.Bgr(1), camera.Depth(), false};
+  system.ProcessFrame(0.0, camera.Bgr(0), camera.Depth(), &next);
+  EXPECT_THROW(system.ProcessFrame(2.0 / 30.0, camera.Bgr(2), camera.Depth()), std::logic_error);
+  EXPECT_EQ(system.records().size(), 1u);
+  system.Finish();  // The announced front end is waited for and dropped.
 }
 
 TEST(System, RejectsBadImages) {
