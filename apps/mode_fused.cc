@@ -32,16 +32,23 @@ class FusedModeFactory : public RunModeFactory {
         .Add("fast_max_removed_fraction", &fast_max_removed_fraction_,
              "FAST evidence is ignored on a frame where it would remove more than this fraction of the keypoints "
              "the detector kept (1: never)")
+        .Add("refill", &refill_,
+             "detect again outside the fused mask (tracking.refill_filtered) when FAST counts only inside its regions")
+        .Add("fast_max_overlap", &fast_max_overlap_,
+             "a FAST region lying more than this fraction inside the detector's mask is left to the detector "
+             "(its removals do not count; 1: never)")
         .OnLoaded([this] {
           if (!(fast_max_removed_fraction_ > 0.0 && fast_max_removed_fraction_ <= 1.0))
             throw InputError("fused.fast_max_removed_fraction must be in (0, 1]");
+          if (!(fast_max_overlap_ >= 0.0 && fast_max_overlap_ <= 1.0))
+            throw InputError("fused.fast_max_overlap must be in [0, 1]");
         });
   }
   std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override {
     std::vector<CombinedFilter::Part> parts;
     parts.push_back({"semantic", semantic_.Create(context)});
-    parts.push_back({"fast", fast_.Create(context), fast_only_in_regions_, fast_max_removed_fraction_});
-    return std::make_unique<CombinedFilter>(std::move(parts));
+    parts.push_back({"fast", fast_.Create(context), fast_only_in_regions_, fast_max_removed_fraction_, fast_max_overlap_});
+    return std::make_unique<CombinedFilter>(std::move(parts), refill_);
   }
 
  private:
@@ -49,6 +56,8 @@ class FusedModeFactory : public RunModeFactory {
   FastModeFactory fast_{FusedFastDefaults()};
   bool fast_only_in_regions_ = true;  // Measured: FAST precision 0.46 -> 0.54 on walking_xyz.
   double fast_max_removed_fraction_ = 0.1;  // Measured: walking_rpy 14.2 -> 7.9 mm, no lost episodes.
+  double fast_max_overlap_ = 1.0;
+  bool refill_ = false;
 };
 
 const bool kRegistered = RegisterRunMode(

@@ -1,6 +1,7 @@
 #include "dynorb/dynamic/combined_filter.h"
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <stdexcept>
 
@@ -18,17 +19,51 @@ bool InsideMask(const cv::Mat& mask, const cv::Point2f& pt) {
 
 }  // namespace
 
-CombinedFilter::CombinedFilter(std::vector<Part> parts)
-    : parts_(std::move(parts)), part_ms_(parts_.size(), 0.0), distrusted_(parts_.size(), 0) {
+CombinedFilter::CombinedFilter(std::vector<Part> parts, bool allow_refill)
+    : parts_(std::move(parts)), allow_refill_(allow_refill), part_ms_(parts_.size(), 0.0), distrusted_(parts_.size(), 0) {
   if (parts_.empty()) throw std::invalid_argument("CombinedFilter needs at least one filter");
   for (const Part& p : parts_) {
     if (!p.filter)
       throw std::invalid_argument("CombinedFilter: part '" + p.label + "' has no filter");
     if (!(p.max_removed_fraction > 0.0 && p.max_removed_fraction <= 1.0))
       throw std::invalid_argument("CombinedFilter: part '" + p.label + "': max_removed_fraction must be in (0, 1]");
+    if (!(p.max_overlap_with_earlier >= 0.0 && p.max_overlap_with_earlier <= 1.0))
+      throw std::invalid_argument("CombinedFilter: part '" + p.label + "': max_overlap_with_earlier must be in [0, 1]");
   }
 }
 
+
+cv::Mat CombinedFilter::RegionsMostlyOutside(const cv::Mat& mask, const cv::Mat& earlier, double max_fraction) {
+  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
+  if (mask.empty()) return out;
+  cv::Mat labels;
+  const int n = cv::connectedComponents(mask != 0, labels, 8, CV_32S);
+  std::vector<int> area(n, 0), inside(n, 0);
+  const bool has_earlier = !earlier.empty();
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uint8_t* e = has_earlier ? earlier.ptr<uint8_t>(y) : nullptr;
+    for (int x = 0; x < labels.cols; ++x) {
+      if (l[x] == 0) continue;
+      ++area[l[x]];
+      if (e != nullptr && e[x] != 0) ++inside[l[x]];
+    }
+  }
+  std::vector<uint8_t> keep(n, 0);
+  for (int i = 1; i < n; ++i) keep[i] = inside[i] <= max_fraction * area[i] ? 255 : 0;
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uint8_t* o = out.ptr<uint8_t>(y);
+    for (int x = 0; x < labels.cols; ++x) o[x] = keep[l[x]];
+  }
+  return out;
+}
+
+bool CombinedFilter::MaskCoversDetections() const {
+  if (!allow_refill_) return false;
+  return std::all_of(parts_.begin(), parts_.end(),
+                     [](const Part& p) { return p.only_inside_mask || p.filter->MaskCoversDetections(); });
+}
 
 std::string CombinedFilter::name() const {
   std::string n = "fused(";
@@ -48,6 +83,11 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");
+    if (parts_[p].max_overlap_with_earlier < 1.0 && !part.dynamic_mask.empty()) {
+      if (out.dynamic_mask.size() != part.dynamic_mask.size() && !out.dynamic_mask.empty())
+        throw std::logic_error("filter " + parts_[p].label + " returned a mask of another size");
+      part.dynamic_mask = RegionsMostlyOutside(part.dynamic_mask, out.dynamic_mask, parts_[p].max_overlap_with_earlier);
+    }
     // With only_inside_mask, only removals backed by the part's dynamic region count (isolated
     // votes are dropped; an empty mask backs none).
     const bool region_only = parts_[p].only_inside_mask;

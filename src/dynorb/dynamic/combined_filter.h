@@ -29,15 +29,26 @@ class CombinedFilter : public KeypointFilter {
     // (geometric cues that fail under fast rotation flag most of the static scene; losing the
     // track costs more than a missed mover). 1 = never distrusted.
     double max_removed_fraction = 1.0;
+    // A connected region of this part's dynamic mask lying more than this fraction inside the
+    // earlier parts' mask is left to them: the region is dropped from this part's mask, so with
+    // only_inside_mask its removals do not count (the detector's mask already covers that mover;
+    // the geometric region around it mostly adds static outline keypoints). 1 = never.
+    double max_overlap_with_earlier = 1.0;
   };
-  explicit CombinedFilter(std::vector<Part> parts);  // Throws std::invalid_argument when empty.
+  // Throws std::invalid_argument when empty. allow_refill: MaskCoversDetections() is true when
+  // every part either covers its detections itself or counts only inside its mask.
+  explicit CombinedFilter(std::vector<Part> parts, bool allow_refill = false);
+  // The connected regions of `mask` (CV_8U, nonzero = set) with at most `max_fraction` of their
+  // pixels inside `earlier` (same size; empty: no overlap), as a 0/255 mask.
+  static cv::Mat RegionsMostlyOutside(const cv::Mat& mask, const cv::Mat& earlier, double max_fraction);
 
   std::string name() const override;
   FilterOutput Filter(const FilterInput& input) override;
   std::vector<std::pair<std::string, double>> StageTimings() const override;
   // Every part's cues, prefixed with its label ("fast.residual", ...).
   std::vector<std::pair<std::string, std::vector<bool>>> CueFlags() const override;
-  // MaskCoversDetections() stays false even when every part counts only inside its mask: a
+  bool MaskCoversDetections() const override;
+  // Without allow_refill, MaskCoversDetections() is false even when every part counts only inside its mask: a
   // refill outside the fused mask puts keypoints back on movers the geometric part missed.
   // Measured (300 frames, 2026-11-30): walking_rpy 14.2 -> 32.4 mm, walking_static 4.9 -> 6.0 mm.
   // Frames on which part `index` was distrusted (Part::max_removed_fraction).
@@ -45,6 +56,7 @@ class CombinedFilter : public KeypointFilter {
 
  private:
   std::vector<Part> parts_;
+  bool allow_refill_ = false;
   std::vector<double> part_ms_;
   std::vector<int> distrusted_;
 };

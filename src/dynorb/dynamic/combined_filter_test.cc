@@ -136,6 +136,64 @@ TEST(CombinedFilter, APartThatWouldRemoveTooMuchIsDistrustedForTheFrame) {
   EXPECT_THROW(CombinedFilter(std::move(bad)), std::invalid_argument);
 }
 
+TEST(CombinedFilter, RegionsMostlyInsideTheEarlierMaskAreLeftToIt) {
+  // "fast" has two regions: x in [8, 24) (10 of its 16 columns inside semantic's [10, 20)) and
+  // x in [30, 36) (outside), and votes on the keypoints at x = 12, 22, 32.
+  class TwoRegions : public BandFilter {
+   public:
+    TwoRegions() : BandFilter(0.f, 0.f, 0.0) {}
+    FilterOutput Filter(const FilterInput& input) override {
+      FilterOutput out;
+      for (const cv::KeyPoint& k : input.keypoints->keypoints) out.keep.push_back(k.pt.x < 10.f);
+      out.dynamic_mask = cv::Mat::zeros(input.gray->size(), CV_8U);
+      out.dynamic_mask.colRange(8, 24).setTo(255);
+      out.dynamic_mask.colRange(30, 36).setTo(255);
+      return out;
+    }
+  };
+  auto make = [](double max_overlap) {
+    std::vector<CombinedFilter::Part> parts;
+    parts.push_back({"semantic", std::make_unique<BandFilter>(10.f, 20.f, 0.0)});
+    parts.push_back({"fast", std::make_unique<TwoRegions>(), true, 1.0, max_overlap});
+    return CombinedFilter(std::move(parts));
+  };
+  for (const double max_overlap : {1.0, 0.7, 0.5, 0.0}) {
+    SCOPED_TRACE(max_overlap);
+    CombinedFilter combined = make(max_overlap);
+    Frame frame;
+    const FilterOutput out = combined.Filter(frame.Input(false));
+    const bool left_to_semantic = max_overlap < 10.0 / 16.0;
+    EXPECT_EQ(out.keep, (std::vector<bool>{true, false, left_to_semantic, false}));
+    // Semantic's band plus fast's outside region, plus fast's overlapping one unless dropped.
+    EXPECT_EQ(cv::countNonZero(out.dynamic_mask), 20 * (10 + 6 + (left_to_semantic ? 0 : 6)));
+  }
+  const cv::Mat earlier = cv::Mat::zeros(4, 8, CV_8U);
+  cv::Mat mask = cv::Mat::zeros(4, 8, CV_8U);
+  mask.at<uint8_t>(1, 1) = 255;
+  EXPECT_EQ(cv::countNonZero(CombinedFilter::RegionsMostlyOutside(mask, cv::Mat(), 0.0)), 1);  // No earlier mask.
+  EXPECT_EQ(cv::countNonZero(CombinedFilter::RegionsMostlyOutside(mask, earlier, 0.0)), 1);
+  std::vector<CombinedFilter::Part> bad;
+  bad.push_back({"fast", std::make_unique<BandFilter>(0.f, 5.f, 0.0), true, 1.0, 1.5});
+  EXPECT_THROW(CombinedFilter(std::move(bad)), std::invalid_argument);
+}
+
+TEST(CombinedFilter, AllowsARefillOnlyWhenEveryPartsRemovalsAreCoveredByItsMask) {
+  class Covering : public BandFilter {
+   public:
+    Covering() : BandFilter(10.f, 20.f, 0.0) {}
+    bool MaskCoversDetections() const override { return true; }
+  };
+  auto make = [](bool allow, bool fast_only_inside) {
+    std::vector<CombinedFilter::Part> parts;
+    parts.push_back({"semantic", std::make_unique<Covering>()});
+    parts.push_back({"fast", std::make_unique<BandFilter>(30.f, 40.f, 0.0), fast_only_inside});
+    return CombinedFilter(std::move(parts), allow);
+  };
+  EXPECT_FALSE(make(false, true).MaskCoversDetections());  // Not asked for.
+  EXPECT_TRUE(make(true, true).MaskCoversDetections());
+  EXPECT_FALSE(make(true, false).MaskCoversDetections());  // Isolated FAST votes outside its mask.
+}
+
 TEST(CombinedFilter, NoOverlayUnlessAskedAndEmptyPartsRejected) {
   std::vector<CombinedFilter::Part> parts;
   parts.push_back({"a", std::make_unique<BandFilter>(0.f, 5.f, 0.0)});
