@@ -170,6 +170,7 @@ assert sum(int(r["new_landmarks_on_movers"]) for r in rows) == l["on_moving_obje
 assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone seeds hundreds
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
+grep -qF "run mode sequential, pipeline on," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
