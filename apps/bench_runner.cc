@@ -46,10 +46,6 @@ std::string UtcNow() {
   return text;
 }
 
-// Generates one synthetic sequence into its cache folder unless it is there already (from this
-// generator version). The
-// generator writes into a temporary sibling that is renamed when complete, so an interrupted
-// generation is redone, never reused half-written.
 // A cached sequence is reused only when its scene.yaml says it was made by this generator version
 // (synth::kSynthVersion); older ones are generated again.
 bool CachedSequenceIsCurrent(const std::string& dataset) {
@@ -63,6 +59,9 @@ bool CachedSequenceIsCurrent(const std::string& dataset) {
   return false;
 }
 
+// Generates one synthetic sequence into its cache folder unless a current one is there. The
+// generator writes into a temporary sibling that is renamed when complete, so an interrupted
+// generation is redone, never reused half-written.
 void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
   if (CachedSequenceIsCurrent(seq.dataset)) return;
   const std::string temp = seq.dataset + ".partial";

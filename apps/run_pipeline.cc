@@ -161,11 +161,12 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   const double level_scale = options.orb.scale_factor;  // Keypoint octave -> image scale ("support" truth).
   KeypointLabelStats label_stats(level_scale);
   KeypointLabelStats moving_now_stats(level_scale);  // Objects standing still at the frame ignored (objects.txt).
-  std::map<std::string, KeypointLabelStats> cue_stats;
-  // Pose inliers on objects moving at the frame: -1 per frame without masks.
+  std::map<std::string, KeypointLabelStats> cue_stats;  // Per filter cue (KeypointFilter::CueFlags), moving now.
+  // Pose inliers and created landmarks on objects moving at the frame (empty without masks;
+  // frames.csv then says -1).
   std::vector<int> inliers_on_movers, new_landmarks_on_movers;
   std::vector<double> on_movers_pixel, on_movers_support;
-  long long inliers_counted = 0, landmarks_created = 0, landmarks_on_movers = 0, landmarks_on_movers_support = 0;  // Per filter cue (KeypointFilter::CueFlags), moving now.
+  long long inliers_counted = 0, landmarks_created = 0, landmarks_on_movers = 0, landmarks_on_movers_support = 0;
   System system(options, std::move(filter));
   system.set_record_keypoints(masks.has_value() || !cli.overlays.empty());
   ProgressBar progress("frames", static_cast<int>(last - first));

@@ -36,6 +36,7 @@ CombinedFilter::CombinedFilter(std::vector<Part> parts, bool allow_refill)
 cv::Mat CombinedFilter::RegionsMostlyOutside(const cv::Mat& mask, const cv::Mat& earlier, double max_fraction) {
   cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
   if (mask.empty()) return out;
+  if (earlier.empty()) return mask != 0;  // Nothing to overlap: every region stays.
   cv::Mat labels;
   const int n = cv::connectedComponents(mask != 0, labels, 8, CV_32S);
   std::vector<int> area(n, 0), inside(n, 0);

@@ -57,8 +57,8 @@ struct FrameTiming {
   double refill_ms = 0.0;   // Second detection after filtering (SystemOptions::refill_filtered).
   double total_ms = 0.0;     // What the caller waited in ProcessFrame: the per-frame cost that
                              // bounds the frame rate (pipelined: the front end ran overlapped).
-  double latency_ms = 0.0;   // Front end + tracking + inline mapping of this frame (= total_ms
-                             // when not pipelined, apart from the wait for a late front end).
+  double latency_ms = 0.0;   // Front end + tracking + inline mapping of this frame (≈ total_ms
+                             // when not pipelined).
   std::vector<std::pair<std::string, double>> filter_stages_ms;  // KeypointFilter::StageTimings().
 };
 
