@@ -89,6 +89,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("ba_second_iterations", &m->bundle_adjustment.second_iterations, "LM iterations without outliers")
       .Add("keyframe_culling", &m->keyframe_culling, "cull redundant keyframes")
       .Add("triangulation_neighbours", &m->triangulation_neighbours, "covisibles searched for new points")
+      .Add("free_space_ratio", &m->free_space_ratio,
+           "reject triangulations nearer than this fraction of the depth measured around a depthless keypoint (0: off)")
       .OnLoaded([m] { m->Validate(); });
 }
 

@@ -12,13 +12,38 @@ FrameFeatures::FrameFeatures(const OrbFeatures& orb, const cv::Mat& depth_m, con
     : keypoints_(orb.keypoints), descriptors_(orb.descriptors), levels_(levels) {
   const int n = static_cast<int>(keypoints_.size());
   depth_m_.assign(n, 0.0f);
+  nearby_min_depth_m_.assign(n, 0.0f);
   // Depth is sampled at the extracted (distorted) position, where the depth image is registered.
-  for (int i = 0; i < n; ++i) {
+  const int r = kNearbyDepthRadiusPx;
+  for (int i = 0; i < n && !depth_m.empty(); ++i) {
     const int x = static_cast<int>(std::lround(keypoints_[i].pt.x));
     const int y = static_cast<int>(std::lround(keypoints_[i].pt.y));
-    if (!depth_m.empty() && x >= 0 && y >= 0 && x < depth_m.cols && y < depth_m.rows) {
-      const float d = depth_m.at<float>(y, x);
-      if (d > 0.0f && std::isfinite(d)) depth_m_[i] = d;
+    if (x < 0 || y < 0 || x >= depth_m.cols || y >= depth_m.rows) continue;
+    const float d = depth_m.at<float>(y, x);
+    if (d > 0.0f && std::isfinite(d)) depth_m_[i] = d;
+    float nearest = 0.0f;
+    for (int yy = std::max(0, y - r); yy <= std::min(depth_m.rows - 1, y + r); ++yy) {
+      const float* row = depth_m.ptr<float>(yy);
+      for (int xx = std::max(0, x - r); xx <= std::min(depth_m.cols - 1, x + r); ++xx) {
+        const float v = row[xx];
+        if (v > 0.0f && std::isfinite(v) && (nearest == 0.0f || v < nearest)) nearest = v;
+      }
+    }
+    nearby_min_depth_m_[i] = nearest;
+  }
+  if (!depth_m.empty()) {  // Every 4th pixel of every 4th row is plenty for a percentile.
+    std::vector<float> samples;
+    samples.reserve(static_cast<size_t>(depth_m.rows / 4 + 1) * (depth_m.cols / 4 + 1));
+    for (int y = 0; y < depth_m.rows; y += 4) {
+      const float* row = depth_m.ptr<float>(y);
+      for (int x = 0; x < depth_m.cols; x += 4) {
+        if (row[x] > 0.0f && std::isfinite(row[x])) samples.push_back(row[x]);
+      }
+    }
+    if (!samples.empty()) {
+      auto nth = samples.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(samples.size() - 1));
+      std::nth_element(samples.begin(), nth, samples.end());
+      far_depth_m_ = *nth;
     }
   }
   Finish(sensor);
@@ -28,6 +53,7 @@ FrameFeatures::FrameFeatures(const OrbFeatures& orb, const std::vector<float>& k
                              const RgbdSensor& sensor, const ScaleLevels& levels)
     : keypoints_(orb.keypoints), descriptors_(orb.descriptors), levels_(levels) {
   depth_m_.assign(keypoints_.size(), 0.0f);
+  nearby_min_depth_m_.assign(keypoints_.size(), 0.0f);  // Unknown: no depth image.
   for (size_t i = 0; i < keypoints_.size() && i < keypoint_depth_m.size(); ++i) {
     if (keypoint_depth_m[i] > 0.0f && std::isfinite(keypoint_depth_m[i])) depth_m_[i] = keypoint_depth_m[i];
   }

@@ -46,6 +46,15 @@ class FrameFeatures {
   float u_right(int i) const { return u_right_[i]; }
   bool HasDepth(int i) const { return depth_m_[i] > 0.0f; }
   bool IsClose(int i, double th_depth_m) const { return HasDepth(i) && depth_m_[i] < th_depth_m; }
+  // Smallest valid depth within kNearbyDepthRadiusPx of keypoint i (metres; 0 = none measured or
+  // no depth image). A point seen at the keypoint cannot lie much nearer than every surface the
+  // depth camera measured around it (it would occlude them): this bounds monocular triangulations.
+  float nearby_min_depth(int i) const { return nearby_min_depth_m_[i]; }
+  static constexpr int kNearbyDepthRadiusPx = 5;
+  // The 95th percentile of the frame's valid depths (metres; 0 = unknown): how far the depth
+  // camera measured in this frame. A keypoint with nothing measured around it most likely looks
+  // beyond that range.
+  float far_depth() const { return far_depth_m_; }
   const ScaleLevels& levels() const { return levels_; }
 
   // The observation of keypoint i for the reprojection cost (information = 1 / sigma^2 of its level).
@@ -64,6 +73,8 @@ class FrameFeatures {
   std::vector<cv::KeyPoint> keypoints_;
   cv::Mat descriptors_;
   std::vector<float> depth_m_;
+  std::vector<float> nearby_min_depth_m_;
+  float far_depth_m_ = 0.0f;
   std::vector<float> u_right_;
   ScaleLevels levels_;
   std::optional<KeypointGrid> grid_;

@@ -1,5 +1,6 @@
 #include "dynorb/map/map.h"
 
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -47,6 +48,43 @@ TEST(FrameFeatures, DepthURightAndObservation) {
   const Eigen::Vector3d p = f->PointInCam(i, Sensor().camera);
   EXPECT_NEAR(p.z(), 2.0, 1e-9);
   EXPECT_LT((Sensor().camera.Project(p) - obs.uv).norm(), 1e-4);
+}
+
+TEST(FrameFeatures, NearbyMinDepthIsTheNearestMeasurementAroundTheKeypoint) {
+  OrbFeatures orb;
+  orb.descriptors = cv::Mat(4, 32, CV_8U, cv::Scalar(0));
+  for (const cv::Point2f& p : {cv::Point2f(100, 100), cv::Point2f(300, 200), cv::Point2f(2, 2), cv::Point2f(500, 400)}) {
+    orb.keypoints.emplace_back(p, 31.0f, 0.0f, 1.0f, 0);
+  }
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(3.0f));
+  depth.at<float>(100, 100) = 0.0f;                            // A hole at the keypoint ...
+  depth.at<float>(100 + 5, 100 - 5) = 1.5f;                    // ... a nearer surface at the window's corner,
+  depth.at<float>(100 + 6, 100) = 0.5f;                        // and one just outside it.
+  depth(cv::Rect(295, 195, 11, 11)).setTo(0.0f);               // No measurement in the whole window.
+  depth.at<float>(0, 0) = 2.0f;                                // Window clipped at the border.
+  depth(cv::Rect(0, 1, 8, 7)).setTo(std::numeric_limits<float>::quiet_NaN());
+  const FrameFeatures f(orb, depth, Sensor(), ScaleLevels(8, 1.2));
+  EXPECT_FALSE(f.HasDepth(0));
+  EXPECT_FLOAT_EQ(f.nearby_min_depth(0), 1.5f);
+  EXPECT_FLOAT_EQ(f.nearby_min_depth(1), 0.0f);
+  EXPECT_FLOAT_EQ(f.nearby_min_depth(2), 2.0f);  // NaN is no measurement.
+  EXPECT_FLOAT_EQ(f.nearby_min_depth(3), 3.0f);
+  EXPECT_FLOAT_EQ(f.depth(3), 3.0f);
+  EXPECT_FLOAT_EQ(f.far_depth(), 3.0f);  // 95th percentile of the valid depths.
+  // Per-keypoint depths (no image): nothing is known around the keypoints.
+  const FrameFeatures g(orb, std::vector<float>{1.0f, 1.0f, 1.0f, 1.0f}, Sensor(), ScaleLevels(8, 1.2));
+  EXPECT_FLOAT_EQ(g.nearby_min_depth(0), 0.0f);
+  EXPECT_FLOAT_EQ(g.far_depth(), 0.0f);
+}
+
+TEST(FrameFeatures, FarDepthIsTheNinetyFifthPercentileOfTheMeasuredDepths) {
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(0.0f));
+  // Depth rises linearly over the rows 0..399 (1 m .. 4.99 m); the rest measured nothing.
+  for (int y = 0; y < 400; ++y) depth.row(y).setTo(1.0f + 0.01f * static_cast<float>(y));
+  const FrameFeatures f(OrbFeatures{}, depth, Sensor(), ScaleLevels(8, 1.2));
+  EXPECT_NEAR(f.far_depth(), 1.0f + 0.01f * 0.95f * 400.0f, 0.05f);
+  const FrameFeatures none(OrbFeatures{}, cv::Mat(480, 640, CV_32F, cv::Scalar(0.0f)), Sensor(), ScaleLevels(8, 1.2));
+  EXPECT_FLOAT_EQ(none.far_depth(), 0.0f);
 }
 
 TEST(FrameFeatures, AreaQueryMatchesBruteForce) {

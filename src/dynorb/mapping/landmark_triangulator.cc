@@ -67,6 +67,17 @@ std::vector<Candidate> MatchForTriangulation(const Keyframe& kf1, const Keyframe
   return result;
 }
 
+// False when keypoint `index` has no depth of its own and depth_m is less than `ratio` times
+// the nearest surface the depth camera measured around it (a point there would have occluded
+// it), or, with nothing measured around it, less than `ratio` times the frame's far depth (the
+// camera would have measured a point that near: the keypoint looks beyond its range).
+bool RespectsFreeSpace(const FrameFeatures& f, int index, double depth_m, double ratio) {
+  if (ratio <= 0.0 || f.HasDepth(index)) return true;
+  const double nearest = f.nearby_min_depth(index);
+  const double bound = nearest > 0.0 ? nearest : f.far_depth();
+  return depth_m >= ratio * bound;
+}
+
 bool ReprojectsWell(const RgbdSensor& sensor, const FrameFeatures& f, int index, const Eigen::Vector3d& point_in_cam) {
   const KeypointObservation obs = f.Observation(index);
   const double gate = obs.IsStereo() ? 7.8 : 5.991;
@@ -122,6 +133,10 @@ std::vector<LandmarkId> TriangulateNewLandmarks(MapData* map, KeyframeId keyfram
       }
       const Eigen::Vector3d p1 = kf1.cam_from_world * point, p2 = kf2.cam_from_world * point;
       if (p1.z() <= 0.0 || p2.z() <= 0.0) continue;
+      if (!RespectsFreeSpace(f1, c.index1, p1.z(), options.free_space_ratio) ||
+          !RespectsFreeSpace(f2, c.index2, p2.z(), options.free_space_ratio)) {
+        continue;
+      }
       if (!ReprojectsWell(sensor, f1, c.index1, p1) || !ReprojectsWell(sensor, f2, c.index2, p2)) continue;
       const double dist1 = (point - center1).norm(), dist2 = (point - center2).norm();
       if (dist1 <= 0.0 || dist2 <= 0.0) continue;

@@ -10,7 +10,8 @@ namespace dynorb {
 void LocalMapperOptions::Validate() const {
   if (triangulation_neighbours < 0 || fusion_neighbours < 0 || fusion_second_neighbours < 0 ||
       fuse_radius_px <= 0.0 || local_ba_keyframes < 1 || local_ba_fixed_keyframes < 0 || strict_max_distance < 0 || strict_max_distance > 256 || min_found_ratio < 0.0 ||
-      min_found_ratio > 1.0 || redundant_ratio <= 0.0 || redundant_ratio > 1.0 || redundant_observers < 1) {
+      min_found_ratio > 1.0 || redundant_ratio <= 0.0 || redundant_ratio > 1.0 || redundant_observers < 1 ||
+      free_space_ratio < 0.0 || free_space_ratio > 1.0) {
     throw InputError("local mapper options out of range (see mapping/mapper_options.h)");
   }
   bundle_adjustment.Validate();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,70 @@ TEST(LandmarkTriangulator, TriangulatesTrueStructure) {
   EXPECT_LT(errors[errors.size() / 2], 0.04);
   const auto gross = std::count_if(errors.begin(), errors.end(), [](double e) { return e > 0.3; });
   EXPECT_LT(gross, 0.02 * errors.size());
+}
+
+// Two keyframes 0.2 m apart facing a wall at 3 m that the depth camera measured everywhere except
+// in a 1 px hole at each keypoint (as along depth edges). Keypoint pairs: true wall points, and
+// pairs whose rays cross 0.5 m in front of the cameras (an occlusion corner or a mismatch); one of
+// those has a real near surface measured around it in both views. Two more lie in regions without
+// any depth (a window in the wall): one whose rays cross at 1.5 m, where the camera would have
+// measured it, and one at 6 m, beyond what it measured anywhere in the frame (3 m).
+TEST(LandmarkTriangulator, RejectsPointsNearerThanTheDepthMeasuredAroundThem) {
+  RgbdSensor sensor;
+  sensor.camera = TumFreiburg3Camera();
+  sensor.bf = 40.0;
+  const Rigid3d world_from_cam[2] = {Rigid3d(), Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.2, 0.0, 0.0))};
+  std::vector<Eigen::Vector3d> points;  // World points; index 0..29 wall, 30..35 near.
+  for (int i = 0; i < 30; ++i) points.emplace_back(-0.9 + 0.06 * i, -0.6 + 0.04 * i, 3.0);
+  for (int i = 0; i < 6; ++i) points.emplace_back(-0.05 + 0.04 * i, 0.1 - 0.03 * i, 0.5);
+  points.emplace_back(0.3, -0.2, 1.5);  // 36: in a window, nearer than the frame's far depth.
+  points.emplace_back(-0.4, 0.3, 6.0);  // 37: in a window, beyond it.
+  std::mt19937_64 rng(5);
+  cv::Mat descriptors(static_cast<int>(points.size()), 32, CV_8U);
+  for (int r = 0; r < descriptors.rows; ++r) {
+    for (int b = 0; b < 32; ++b) descriptors.at<uint8_t>(r, b) = static_cast<uint8_t>(rng());
+  }
+  MapData map;
+  KeyframeId ids[2];
+  for (int v = 0; v < 2; ++v) {
+    OrbFeatures orb;
+    orb.descriptors = descriptors.clone();
+    cv::Mat depth(480, 640, CV_32F, cv::Scalar(3.0f));
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2d uv = sensor.camera.Project(world_from_cam[v].Inverse() * points[i]);
+      orb.keypoints.emplace_back(cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())), 31.0f, 0.0f, 1.0f, 0);
+      const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));
+      if (i == 35) depth(cv::Rect(x - 4, y - 4, 9, 9)).setTo(0.5f);  // The real near surface.
+      if (i >= 36) depth(cv::Rect(x - 8, y - 8, 17, 17)).setTo(0.0f);  // The windows.
+      depth.at<float>(y, x) = 0.0f;
+    }
+    Keyframe kf;
+    kf.features = std::make_shared<const FrameFeatures>(orb, depth, sensor, ScaleLevels(8, 1.2));
+    kf.cam_from_world = world_from_cam[v].Inverse();
+    ids[v] = map.AddKeyframe(kf);
+  }
+  map.keyframe(ids[1]).covisibility[ids[0]] = 100;
+  map.keyframe(ids[1]).ordered_covisibles = {ids[0]};
+  auto triangulated = [&](double ratio) {
+    MapData copy = map;
+    LocalMapperOptions options;
+    options.free_space_ratio = ratio;
+    std::vector<double> depths;
+    for (LandmarkId lm : TriangulateNewLandmarks(&copy, ids[1], sensor, options)) {
+      depths.push_back(copy.landmark(lm).point_in_world.z());
+    }
+    std::sort(depths.begin(), depths.end());
+    return depths;
+  };
+  const std::vector<double> without = triangulated(0.0);  // ORB-SLAM2: all 38 are created.
+  ASSERT_EQ(without.size(), points.size());
+  EXPECT_NEAR(without.front(), 0.5, 1e-4);
+  // The wall points, the measured near one and the far one in the window.
+  const std::vector<double> with = triangulated(0.8);
+  ASSERT_EQ(with.size(), 32u);
+  EXPECT_NEAR(with.front(), 0.5, 1e-4);
+  EXPECT_NEAR(with[1], 3.0, 1e-4);  // Float keypoints.
+  EXPECT_NEAR(with.back(), 6.0, 1e-3);
 }
 
 class MapperTest : public ::testing::Test {

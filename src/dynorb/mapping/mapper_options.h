@@ -19,6 +19,11 @@ struct LocalMapperOptions {
   int local_ba_keyframes = 10;           // Free keyframes: the new one + its best covisibles.
   int local_ba_fixed_keyframes = 10;     // Fixed observers kept (most observations first).
   bool keyframe_culling = true;
+  // A triangulated point seen at a keypoint without depth must not lie nearer than this fraction
+  // of the nearest depth measured around that keypoint (it would occlude what the depth camera
+  // saw there): rejects the garbage DLT gives for occlusion corners and mismatches, which, being
+  // near, dominate the translation of every later pose. 0: off (ORB-SLAM2).
+  double free_space_ratio = 0.8;
   BundleAdjusterOptions bundle_adjustment;
 
   void Validate() const;  // Throws InputError.
