@@ -46,9 +46,10 @@ class FrameFeatures {
   float u_right(int i) const { return u_right_[i]; }
   bool HasDepth(int i) const { return depth_m_[i] > 0.0f; }
   bool IsClose(int i, double th_depth_m) const { return HasDepth(i) && depth_m_[i] < th_depth_m; }
-  // Smallest valid depth within kNearbyDepthRadiusPx of keypoint i (metres; 0 = none measured or
-  // no depth image). A point seen at the keypoint cannot lie much nearer than every surface the
-  // depth camera measured around it (it would occlude them): this bounds monocular triangulations.
+  // Smallest valid depth in the square of half-side kNearbyDepthRadiusPx around keypoint i's
+  // extracted position (metres; 0 = none measured or no depth image). A point seen at the
+  // keypoint cannot lie much nearer than every surface the depth camera measured around it (it
+  // would occlude them): this bounds new landmarks at keypoints without depth.
   float nearby_min_depth(int i) const { return nearby_min_depth_m_[i]; }
   static constexpr int kNearbyDepthRadiusPx = 5;
   // The 95th percentile of the frame's valid depths (metres; 0 = unknown): how far the depth

@@ -63,7 +63,10 @@ TEST(LandmarkTriangulator, TriangulatesTrueStructure) {
 // pairs whose rays cross 0.5 m in front of the cameras (an occlusion corner or a mismatch); one of
 // those has a real near surface measured around it in both views. Two more lie in regions without
 // any depth (a window in the wall): one whose rays cross at 1.5 m, where the camera would have
-// measured it, and one at 6 m, beyond what it measured anywhere in the frame (3 m).
+// measured it, and one at 6 m, beyond what it measured anywhere in the frame (3 m). The last one
+// has depth (4 m) in the first view only; in the second its keypoint is a hole in a surface
+// measured at 6 m, which a point at 4 m would have hidden: a mismatch, although the point comes
+// from depth and not from DLT.
 TEST(LandmarkTriangulator, RejectsPointsNearerThanTheDepthMeasuredAroundThem) {
   RgbdSensor sensor;
   sensor.camera = TumFreiburg3Camera();
@@ -74,6 +77,7 @@ TEST(LandmarkTriangulator, RejectsPointsNearerThanTheDepthMeasuredAroundThem) {
   for (int i = 0; i < 6; ++i) points.emplace_back(-0.05 + 0.04 * i, 0.1 - 0.03 * i, 0.5);
   points.emplace_back(0.3, -0.2, 1.5);  // 36: in a window, nearer than the frame's far depth.
   points.emplace_back(-0.4, 0.3, 6.0);  // 37: in a window, beyond it.
+  points.emplace_back(0.7, -0.45, 4.0);  // 38: from the first view's depth, hiding the second's.
   std::mt19937_64 rng(5);
   cv::Mat descriptors(static_cast<int>(points.size()), 32, CV_8U);
   for (int r = 0; r < descriptors.rows; ++r) {
@@ -90,7 +94,11 @@ TEST(LandmarkTriangulator, RejectsPointsNearerThanTheDepthMeasuredAroundThem) {
       orb.keypoints.emplace_back(cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())), 31.0f, 0.0f, 1.0f, 0);
       const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));
       if (i == 35) depth(cv::Rect(x - 4, y - 4, 9, 9)).setTo(0.5f);  // The real near surface.
-      if (i >= 36) depth(cv::Rect(x - 8, y - 8, 17, 17)).setTo(0.0f);  // The windows.
+      if (i == 36 || i == 37) depth(cv::Rect(x - 8, y - 8, 17, 17)).setTo(0.0f);  // The windows.
+      if (i == 38) {
+        depth(cv::Rect(x - 8, y - 8, 17, 17)).setTo(v == 0 ? 4.0f : 6.0f);
+        if (v == 0) continue;  // Measured at the keypoint in the first view.
+      }
       depth.at<float>(y, x) = 0.0f;
     }
     Keyframe kf;
@@ -111,7 +119,7 @@ TEST(LandmarkTriangulator, RejectsPointsNearerThanTheDepthMeasuredAroundThem) {
     std::sort(depths.begin(), depths.end());
     return depths;
   };
-  const std::vector<double> without = triangulated(0.0);  // ORB-SLAM2: all 38 are created.
+  const std::vector<double> without = triangulated(0.0);  // ORB-SLAM2: all 39 are created.
   ASSERT_EQ(without.size(), points.size());
   EXPECT_NEAR(without.front(), 0.5, 1e-4);
   // The wall points, the measured near one and the far one in the window.
