@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 
@@ -21,15 +22,18 @@ FrameFeatures::FrameFeatures(const OrbFeatures& orb, const cv::Mat& depth_m, con
     if (x < 0 || y < 0 || x >= depth_m.cols || y >= depth_m.rows) continue;
     const float d = depth_m.at<float>(y, x);
     if (d > 0.0f && std::isfinite(d)) depth_m_[i] = d;
-    float nearest = 0.0f;
+    // Branch-free minimum over the window (vectorises): no measurement (0, NaN, +inf) counts as +inf.
+    constexpr float kNone = std::numeric_limits<float>::infinity();
+    float nearest = kNone;
+    const int x0 = std::max(0, x - r), x1 = std::min(depth_m.cols - 1, x + r);
     for (int yy = std::max(0, y - r); yy <= std::min(depth_m.rows - 1, y + r); ++yy) {
       const float* row = depth_m.ptr<float>(yy);
-      for (int xx = std::max(0, x - r); xx <= std::min(depth_m.cols - 1, x + r); ++xx) {
+      for (int xx = x0; xx <= x1; ++xx) {
         const float v = row[xx];
-        if (v > 0.0f && std::isfinite(v) && (nearest == 0.0f || v < nearest)) nearest = v;
+        nearest = std::min(nearest, v > 0.0f ? v : kNone);
       }
     }
-    nearby_min_depth_m_[i] = nearest;
+    nearby_min_depth_m_[i] = nearest < kNone ? nearest : 0.0f;
   }
   if (!depth_m.empty()) {  // Every 4th pixel of every 4th row is plenty for a percentile.
     std::vector<float> samples;
