@@ -71,12 +71,15 @@ void Renderer::Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fr
     p.img_from_tex = img_from_ab * tex_from_ab.inverse();
     p.tex_from_img = tex_from_ab * img_from_ab.inverse();
     p.width_m = q.axis_u.norm();
+    p.plane_distance_m = std::abs(d);
+    const Eigen::Vector3d toward_camera = d > 0 ? -normal : normal;
+    p.texel_shift = p.tex_from_img * (k * toward_camera);
     p.visible = true;
   }
 }
 
 void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
-                         cv::Mat* inv_depth, cv::Mat* quad_index) {
+                         cv::Mat* inv_depth, cv::Mat* quad_index, cv::Mat* sprite_texel) {
   const int scale = inv_depth->cols / camera_.width;
   const int w = camera_.width * scale, h = camera_.height * scale;
   inv_depth->setTo(0.0f);
@@ -144,7 +147,11 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         }
         continue;
       }
-      // Sprites: alpha test and body bulge from the texture (perspective-correct bilinear lookup).
+      // Sprites: the ray meets the bulged surface at height h (metres towards the camera) where
+      // h = bulge(texel(h)) * width: a few fixed-point steps from the plane (h = 0). The step
+      // contracts strongly (the texel moves by h * tan(angle of view to the normal), the bulge
+      // changes slowly across the body). Alpha, depth and the shading texel all come from the
+      // last texel, so colour and depth describe the same surface point.
       const cv::Mat& ab = sprite->alpha_bulge;
       const float max_tx = ab.cols - 0.5f, max_ty = ab.rows - 0.5f;
       const float clamp_x = std::max(0.0f, ab.cols - 1.001f),
@@ -152,38 +159,57 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       const size_t stride = ab.step1();
       const size_t next_x = ab.cols > 1 ? 2 : 0, next_y = ab.rows > 1 ? stride : 0;
       const float* ab_data = ab.ptr<float>(0);
-      const float a = static_cast<float>(p.a), row_c = static_cast<float>(p.b * y + p.c);
-      const float width_m = static_cast<float>(p.width_m);
-      double nx = t(0, 0) * x_begin + t(0, 1) * y + t(0, 2);
-      double ny = t(1, 0) * x_begin + t(1, 1) * y + t(1, 2);
-      double nw = t(2, 0) * x_begin + t(2, 1) * y + t(2, 2);
-      for (int x = x_begin; x < x_end; ++x, nx += t(0, 0), ny += t(1, 0), nw += t(2, 0)) {
-        const float inv_w = 1.0f / static_cast<float>(nw);
-        const float tx = static_cast<float>(nx) * inv_w, ty = static_cast<float>(ny) * inv_w;
-        if (tx < -0.5f || ty < -0.5f || tx > max_tx || ty > max_ty) continue;
+      // Bilinear (alpha, bulge) at a texel; false outside the texture.
+      auto lookup = [&](float tx, float ty, float* alpha, float* bulge) {
+        if (!(tx >= -0.5f && ty >= -0.5f && tx <= max_tx && ty <= max_ty)) return false;
         const float cx = std::clamp(tx, 0.0f, clamp_x), cy = std::clamp(ty, 0.0f, clamp_y);
         const int ix = static_cast<int>(cx), iy = static_cast<int>(cy);
         const float fx = cx - ix, fy = cy - iy;
         const float* r0 = ab_data + iy * stride + 2 * ix;
         const float* r1 = r0 + next_y;
-        const float a_top = r0[0] + fx * (r0[next_x] - r0[0]),
-                    a_bottom = r1[0] + fx * (r1[next_x] - r1[0]);
-        if (a_top + fy * (a_bottom - a_top) < 0.5f) continue;
+        const float a_top = r0[0] + fx * (r0[next_x] - r0[0]), a_bottom = r1[0] + fx * (r1[next_x] - r1[0]);
         const float b_top = r0[1] + fx * (r0[next_x + 1] - r0[1]),
                     b_bottom = r1[1] + fx * (r1[next_x + 1] - r1[1]);
-        const float z = 1.0f / (a * x + row_c) - (b_top + fy * (b_bottom - b_top)) * width_m;
+        *alpha = a_top + fy * (a_bottom - a_top);
+        *bulge = b_top + fy * (b_bottom - b_top);
+        return true;
+      };
+      const float a = static_cast<float>(p.a), row_c = static_cast<float>(p.b * y + p.c);
+      const float width_m = static_cast<float>(p.width_m);
+      const float inv_distance = static_cast<float>(1.0 / p.plane_distance_m);
+      const float sx = static_cast<float>(p.texel_shift.x()), sy = static_cast<float>(p.texel_shift.y()),
+                  sw = static_cast<float>(p.texel_shift.z());
+      cv::Vec2f* trow = sprite_texel->ptr<cv::Vec2f>(y);
+      double nx = t(0, 0) * x_begin + t(0, 1) * y + t(0, 2);
+      double ny = t(1, 0) * x_begin + t(1, 1) * y + t(1, 2);
+      double nw = t(2, 0) * x_begin + t(2, 1) * y + t(2, 2);
+      for (int x = x_begin; x < x_end; ++x, nx += t(0, 0), ny += t(1, 0), nw += t(2, 0)) {
+        const float z_plane = 1.0f / (a * x + row_c);
+        const float hx = static_cast<float>(nx), hy = static_cast<float>(ny), hw = static_cast<float>(nw);
+        float tx = hx / hw, ty = hy / hw, alpha = 0.f, bulge = 0.f, z = z_plane;
+        bool inside = lookup(tx, ty, &alpha, &bulge);
+        for (int step = 0; step < kSpriteSteps && inside; ++step) {
+          const float height = bulge * width_m;
+          z = z_plane * (1.0f - height * inv_distance);
+          const float tw = z * hw - height * sw;
+          tx = (z * hx - height * sx) / tw;
+          ty = (z * hy - height * sy) / tw;
+          inside = lookup(tx, ty, &alpha, &bulge);
+        }
+        if (!inside || alpha < 0.5f) continue;
         if (z <= kNearM) continue;
         const float iz = 1.0f / z;
         if (iz <= zrow[x]) continue;
         zrow[x] = iz;
         irow[x] = static_cast<int>(qi);
+        trow[x] = cv::Vec2f(tx, ty);
       }
     }
   }
 }
 
 void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
-                     const cv::Mat& quad_index, cv::Mat* colour) {
+                     const cv::Mat& quad_index, const cv::Mat& sprite_texel, cv::Mat* colour) {
   const int nq = static_cast<int>(quads.size());
   std::vector<cv::Vec4i> box(
       nq, cv::Vec4i(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1));
@@ -209,6 +235,8 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
   struct Level {
     const cv::Mat* image = nullptr;
     double h[9];
+    float inv_scale = 1.f;  // level-0 texel -> this level's texel
+    bool sprite = false;    // texels come from sprite_texel (parallax-correct), not from h
   };
   std::vector<Level> levels(nq);
   for (int q = 0; q < nq; ++q) {
@@ -228,6 +256,8 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
     level = std::clamp(level, 0, static_cast<int>(texture.levels.size()) - 1);
     const double inv_scale = std::ldexp(1.0, -level);
     levels[q].image = &texture.levels[level];
+    levels[q].inv_scale = static_cast<float>(inv_scale);
+    levels[q].sprite = texture.IsSprite();
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) levels[q].h[3 * r + c] = t(r, c) * (r < 2 ? inv_scale : 1.0);
   }
@@ -254,13 +284,20 @@ void Renderer::Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepa
       const float max_x = img.cols - 1.002f, max_y = img.rows - 1.002f;
       double nx = h[0] * x + h[1] * y + h[2], ny = h[3] * x + h[4] * y + h[5],
              nw = h[6] * x + h[7] * y + h[8];
+      const cv::Vec2f* texel_row = l.sprite ? sprite_texel.ptr<cv::Vec2f>(y) : nullptr;
       for (; x < end; ++x) {
-        const float inv_w = 1.0f / static_cast<float>(nw);
-        const float tx = std::clamp(static_cast<float>(nx) * inv_w, 0.0f, max_x);
-        const float ty = std::clamp(static_cast<float>(ny) * inv_w, 0.0f, max_y);
-        nx += h[0];
-        ny += h[3];
-        nw += h[6];
+        float tx, ty;
+        if (texel_row != nullptr) {
+          tx = std::clamp(texel_row[x][0] * l.inv_scale, 0.0f, max_x);
+          ty = std::clamp(texel_row[x][1] * l.inv_scale, 0.0f, max_y);
+        } else {
+          const float inv_w = 1.0f / static_cast<float>(nw);
+          tx = std::clamp(static_cast<float>(nx) * inv_w, 0.0f, max_x);
+          ty = std::clamp(static_cast<float>(ny) * inv_w, 0.0f, max_y);
+          nx += h[0];
+          ny += h[3];
+          nw += h[6];
+        }
         const int fx = static_cast<int>(tx * 256.0f), fy = static_cast<int>(ty * 256.0f);
         const int ix = fx >> 8, iy = fy >> 8, wx = fx & 255, wy = fy & 255;
         const uchar* p0 = base + iy * step + 3 * ix;
@@ -282,20 +319,24 @@ void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fro
   for (const DrawQuad& q : quads) CV_Assert(q.texture != nullptr && !q.texture->levels.empty());
   inv_depth_full_.create(h, w, CV_32F);
   index_full_.create(h, w, CV_32S);
+  texel_full_.create(h, w, CV_32FC2);
   Prepare(quads, cam_from_world, 1, &prepared_full_);
-  Rasterise(quads, prepared_full_, &inv_depth_full_, &index_full_);
+  Rasterise(quads, prepared_full_, &inv_depth_full_, &index_full_, &texel_full_);
   const std::vector<Prepared>* shade_prepared = &prepared_full_;
   const cv::Mat* shade_index = &index_full_;
+  const cv::Mat* shade_texel = &texel_full_;
   if (s > 1) {
     inv_depth_super_.create(h * s, w * s, CV_32F);
     index_super_.create(h * s, w * s, CV_32S);
+    texel_super_.create(h * s, w * s, CV_32FC2);
     Prepare(quads, cam_from_world, s, &prepared_super_);
-    Rasterise(quads, prepared_super_, &inv_depth_super_, &index_super_);
+    Rasterise(quads, prepared_super_, &inv_depth_super_, &index_super_, &texel_super_);
     shade_prepared = &prepared_super_;
     shade_index = &index_super_;
+    shade_texel = &texel_super_;
   }
   colour_super_.create(h * s, w * s, CV_8UC3);
-  Shade(quads, *shade_prepared, *shade_index, &colour_super_);
+  Shade(quads, *shade_prepared, *shade_index, *shade_texel, &colour_super_);
   if (s > 1) {
     cv::resize(colour_super_, out->rgb, cv::Size(w, h), 0, 0, cv::INTER_AREA);
   } else {

@@ -1,6 +1,11 @@
 // Renderer: draws textured planar quads (and alpha-tested sprite billboards with a body-shaped
 // depth bulge) into an RGB image, a depth map and a moving-object id map.
 //
+// A sprite's surface is its billboard plane pushed towards the camera by the texture's bulge
+// (along the plane normal). Each pixel's ray is intersected with that surface (fixed-point
+// iteration over planes parallel to the billboard), and colour, alpha, depth and id all come from
+// the texel of the intersection, so a person's colour moves with their depth (parallax-correct).
+//
 // Geometry is exact: a quad is clipped against the near plane, rasterised by scanlines at pixel
 // centres, and z-buffered with its analytic inverse depth (affine in pixel coordinates for a
 // plane). Colour is rendered at `supersample` x the resolution with perspective-correct,
@@ -60,23 +65,31 @@ class Renderer {
     Eigen::Matrix3d tex_from_img;
     double width_m = 0;  // |axis_u|, for the sprite bulge
     double near_z = 0;   // nearest clipped corner (drawing order)
+    // Sprites: the surface at height h is the plane moved by h along its unit normal n towards
+    // the camera. The camera's distance to the plane, and tex_from_img * K * n (homogeneous
+    // texel shift per metre of height): the point that the ray through pixel x meets at height h,
+    // moved back onto the plane by -h n, shows texel  z(h) * tex_from_img * x - h * texel_shift.
+    double plane_distance_m = 0;
+    Eigen::Vector3d texel_shift = Eigen::Vector3d::Zero();
   };
-  static constexpr int kBlock = 16;  // pixels per block of the occlusion bound
+  static constexpr int kBlock = 16;       // pixels per block of the occlusion bound
+  static constexpr int kSpriteSteps = 4;  // fixed-point steps of the ray / sprite-surface intersection
 
   void Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
                std::vector<Prepared>* prepared) const;
-  // Z-buffers all quads at this scale: inverse depth and winning quad index (-1 = none).
+  // Z-buffers all quads at this scale: inverse depth and winning quad index (-1 = none). Where a
+  // sprite wins, `sprite_texel` (CV_32FC2) holds the level-0 texel its surface point shows.
   void Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
-                 cv::Mat* inv_depth, cv::Mat* quad_index);
+                 cv::Mat* inv_depth, cv::Mat* quad_index, cv::Mat* sprite_texel);
   void Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
-             const cv::Mat& quad_index, cv::Mat* colour);
+             const cv::Mat& quad_index, const cv::Mat& sprite_texel, cv::Mat* colour);
 
   PinholeCamera camera_;
   int supersample_;
   std::vector<Prepared> prepared_full_, prepared_super_;
   std::vector<int> order_;        // visible quads, nearest first
   std::vector<float> block_far_;  // per row and block: smallest inverse depth drawn (0 = none)
-  cv::Mat inv_depth_full_, index_full_, inv_depth_super_, index_super_, colour_super_;
+  cv::Mat inv_depth_full_, index_full_, texel_full_, inv_depth_super_, index_super_, texel_super_, colour_super_;
 };
 
 }  // namespace dynorb::synth
