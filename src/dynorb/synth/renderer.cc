@@ -147,11 +147,13 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         }
         continue;
       }
-      // Sprites: the ray meets the bulged surface at height h (metres towards the camera) where
-      // h = bulge(texel(h)) * width: a few fixed-point steps from the plane (h = 0). The step
-      // contracts strongly (the texel moves by h * tan(angle of view to the normal), the bulge
-      // changes slowly across the body). Alpha, depth and the shading texel all come from the
-      // last texel, so colour and depth describe the same surface point.
+      // Sprites: the body is the billboard raised towards the camera by bulge(texel) * width.
+      // Ray marching (as in parallax occlusion mapping): walk the ray from the highest possible
+      // height H = max_bulge * width down to the plane in kSpriteSearchSteps steps; the first
+      // sample at or under the surface brackets the nearest intersection, which bisection then
+      // narrows to H / (kSpriteSearchSteps * 2^kSpriteBisections). Alpha, depth and the shading
+      // texel all come from that point, so colour and depth describe the same surface point, and
+      // a nearer part of the body hides a farther one.
       const cv::Mat& ab = sprite->alpha_bulge;
       const float max_tx = ab.cols - 0.5f, max_ty = ab.rows - 0.5f;
       const float clamp_x = std::max(0.0f, ab.cols - 1.001f),
@@ -176,6 +178,7 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       };
       const float a = static_cast<float>(p.a), row_c = static_cast<float>(p.b * y + p.c);
       const float width_m = static_cast<float>(p.width_m);
+      const float top = sprite->max_bulge * width_m;  // H
       const float inv_distance = static_cast<float>(1.0 / p.plane_distance_m);
       const float sx = static_cast<float>(p.texel_shift.x()), sy = static_cast<float>(p.texel_shift.y()),
                   sw = static_cast<float>(p.texel_shift.z());
@@ -186,17 +189,34 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       for (int x = x_begin; x < x_end; ++x, nx += t(0, 0), ny += t(1, 0), nw += t(2, 0)) {
         const float z_plane = 1.0f / (a * x + row_c);
         const float hx = static_cast<float>(nx), hy = static_cast<float>(ny), hw = static_cast<float>(nw);
-        float tx = hx / hw, ty = hy / hw, alpha = 0.f, bulge = 0.f, z = z_plane;
-        bool inside = lookup(tx, ty, &alpha, &bulge);
-        for (int step = 0; step < kSpriteSteps && inside; ++step) {
-          const float height = bulge * width_m;
-          z = z_plane * (1.0f - height * inv_distance);
+        // The ray's point at height h: its texel, and whether it lies at or under the surface.
+        float tx = 0.f, ty = 0.f;
+        auto under_surface = [&](float height) {
+          const float z = z_plane * (1.0f - height * inv_distance);
           const float tw = z * hw - height * sw;
           tx = (z * hx - height * sx) / tw;
           ty = (z * hy - height * sy) / tw;
-          inside = lookup(tx, ty, &alpha, &bulge);
+          float alpha = 0.f, bulge = 0.f;
+          return lookup(tx, ty, &alpha, &bulge) && alpha >= 0.5f && bulge * width_m >= height;
+        };
+        float above = -1.f, below = -1.f;  // heights bracketing the intersection (above: not under)
+        for (int step = 0; step <= kSpriteSearchSteps; ++step) {
+          const float height = top * (1.0f - static_cast<float>(step) / kSpriteSearchSteps);
+          if (under_surface(height)) {
+            below = height;
+            break;
+          }
+          above = height;
         }
-        if (!inside || alpha < 0.5f) continue;
+        if (below < 0.f) continue;  // the ray misses the body
+        if (above >= 0.f) {
+          for (int i = 0; i < kSpriteBisections; ++i) {
+            const float mid = 0.5f * (above + below);
+            (under_surface(mid) ? below : above) = mid;
+          }
+        }
+        under_surface(below);  // the texel of the final point
+        const float z = z_plane * (1.0f - below * inv_distance);
         if (z <= kNearM) continue;
         const float iz = 1.0f / z;
         if (iz <= zrow[x]) continue;

@@ -2,9 +2,10 @@
 // depth bulge) into an RGB image, a depth map and a moving-object id map.
 //
 // A sprite's surface is its billboard plane pushed towards the camera by the texture's bulge
-// (along the plane normal). Each pixel's ray is intersected with that surface (fixed-point
-// iteration over planes parallel to the billboard), and colour, alpha, depth and id all come from
-// the texel of the intersection, so a person's colour moves with their depth (parallax-correct).
+// (along the plane normal). Each pixel's ray is intersected with that surface (ray marching over
+// planes parallel to the billboard, then bisection), and colour, alpha, depth and id all come
+// from the texel of the nearest intersection, so a person's colour moves with their depth
+// (parallax-correct). Only rays that cross the billboard's quad are traced.
 //
 // Geometry is exact: a quad is clipped against the near plane, rasterised by scanlines at pixel
 // centres, and z-buffered with its analytic inverse depth (affine in pixel coordinates for a
@@ -73,7 +74,8 @@ class Renderer {
     Eigen::Vector3d texel_shift = Eigen::Vector3d::Zero();
   };
   static constexpr int kBlock = 16;       // pixels per block of the occlusion bound
-  static constexpr int kSpriteSteps = 4;  // fixed-point steps of the ray / sprite-surface intersection
+  static constexpr int kSpriteSearchSteps = 8;  // ray-marching steps over a sprite's height range
+  static constexpr int kSpriteBisections = 5;   // then bisection steps of the bracketed intersection
 
   void Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
                std::vector<Prepared>* prepared) const;

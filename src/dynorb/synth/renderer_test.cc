@@ -168,9 +168,7 @@ Texture CoordinateSprite(BulgeFn bulge) {
       bgr.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<uchar>(c), static_cast<uchar>(r), 0);
       alpha_bulge.at<cv::Vec2f>(r, c) = cv::Vec2f(1.f, static_cast<float>(bulge(c, r)));
     }
-  Texture t = MakeTexture(bgr);
-  t.alpha_bulge = alpha_bulge;
-  return t;
+  return MakeSpriteFromMaps(bgr, alpha_bulge);
 }
 
 // Texel (column, row) that the sprite quad's surface at height h (along the unit normal towards
@@ -188,36 +186,83 @@ Eigen::Vector3d RayHitsRaisedSprite(const PinholeCamera& cam, double u, double v
 
 TEST(Renderer, ObliqueSpriteShowsTheTexelWhereTheRayMeetsItsRaisedSurface) {
   // A sprite raised uniformly by 0.25 x 0.6 m = 15 cm, seen 35 degrees off its normal: the
-  // billboard plane's own texel along a ray is ~40 texels away from the raised surface's.
+  // billboard plane's own texel along a ray is up to ~45 texels away from the raised surface's.
   const PinholeCamera cam = TumFreiburg3Camera();
   const Texture sprite = CoordinateSprite([](int, int) { return 0.25; });
   const double angle = 35.0 * M_PI / 180.0;
   const Eigen::Vector3d across(std::cos(angle), 0, std::sin(angle));  // the sprite's u axis
   DrawQuad q = Rect(Eigen::Vector3d(-0.3 * std::cos(angle), -0.3, 1.3 - 0.3 * std::sin(angle)), 0.6 * across,
                     {0, 0.6, 0}, &sprite, 3);
+  for (int supersample : {1, 2}) {
+    Renderer renderer(cam, supersample);
+    RenderedFrame frame;
+    renderer.Render({q}, Rigid3d(), &frame);
+    int checked = 0, colour_errors = 0;
+    double max_depth_error = 0, max_plane_offset = 0;
+    for (int v = 0; v < cam.height; v += 5)
+      for (int u = 0; u < cam.width; u += 5) {
+        // Pixels whose ray crosses the billboard itself (the quad is rasterised over its outline).
+        const Eigen::Vector3d hit = RayHitsRaisedSprite(cam, u, v, q, 0.15);
+        const Eigen::Vector3d plane_hit = RayHitsRaisedSprite(cam, u, v, q, 0.0);
+        auto inside = [](const Eigen::Vector3d& t) { return t.x() > 2 && t.x() < 253 && t.y() > 2 && t.y() < 253; };
+        if (!inside(hit) || !inside(plane_hit)) continue;
+        ASSERT_EQ(frame.object_id.at<uchar>(v, u), 3) << u << "," << v;
+        // Supersampling averages the texels of the pixel's sub-samples (an affine map here).
+        const cv::Vec3b c = frame.rgb.at<cv::Vec3b>(v, u);
+        colour_errors += std::abs(c[0] - hit.x()) > 1.0 || std::abs(c[1] - hit.y()) > 1.0;
+        max_depth_error = std::max(max_depth_error, std::abs(frame.depth_m.at<float>(v, u) - hit.z()));
+        max_plane_offset = std::max(max_plane_offset, std::abs(plane_hit.x() - hit.x()));
+        ++checked;
+      }
+    EXPECT_GT(checked, 500);
+    EXPECT_EQ(colour_errors, 0) << "supersample " << supersample;
+    EXPECT_LT(max_depth_error, 1e-4);
+    EXPECT_GT(max_plane_offset, 30.0);  // the plane's texel would be far off
+  }
+}
+
+TEST(Renderer, SpriteStepShowsTheNearestSurfaceAlongEachRay) {
+  // The lower half of the sprite is raised by 15 cm, the upper half by 3 cm, and the camera looks
+  // at it from 35 degrees below its normal: along rays just above the step the raised lower half
+  // stands in front of the upper half (which the billboard plane's texel, and a fixed-point
+  // search started there, would show), and rays that clear it go on to the upper half.
+  const PinholeCamera cam = TumFreiburg3Camera();
+  const Texture sprite = CoordinateSprite([](int, int r) { return r >= 128 ? 0.25 : 0.05; });
+  const double angle = 35.0 * M_PI / 180.0;
+  const Eigen::Vector3d down(0, std::cos(angle), -std::sin(angle));  // the sprite's v axis
+  const DrawQuad q = Rect(Eigen::Vector3d(-0.3, -0.3 * std::cos(angle), 1.3 + 0.3 * std::sin(angle)), {0.6, 0, 0},
+                          0.6 * down, &sprite, 3);
   Renderer renderer(cam, 1);
   RenderedFrame frame;
   renderer.Render({q}, Rigid3d(), &frame);
-  int checked = 0, colour_errors = 0;
-  double max_depth_error = 0, max_plane_offset = 0;
-  for (int v = 0; v < cam.height; v += 5)
-    for (int u = 0; u < cam.width; u += 5) {
-      // Pixels whose ray crosses the billboard itself (the quad is rasterised over its outline).
-      const Eigen::Vector3d hit = RayHitsRaisedSprite(cam, u, v, q, 0.15);
+  int raised = 0, behind = 0, hiding = 0, colour_errors = 0, depth_errors = 0;
+  for (int v = 0; v < cam.height; v += 2)
+    for (int u = 0; u < cam.width; u += 2) {
       const Eigen::Vector3d plane_hit = RayHitsRaisedSprite(cam, u, v, q, 0.0);
-      auto inside = [](const Eigen::Vector3d& t) { return t.x() > 1 && t.x() < 254 && t.y() > 1 && t.y() < 254; };
-      if (!inside(hit) || !inside(plane_hit)) continue;
+      if (plane_hit.x() < 2 || plane_hit.x() > 253 || plane_hit.y() < 2 || plane_hit.y() > 253) continue;
+      const Eigen::Vector3d high = RayHitsRaisedSprite(cam, u, v, q, 0.15);
+      const Eigen::Vector3d low = RayHitsRaisedSprite(cam, u, v, q, 0.03);
+      Eigen::Vector3d expected;
+      if (high.y() > 130 && high.y() < 253) {
+        expected = high;
+        ++raised;
+        hiding += low.y() < 126 && plane_hit.y() < 126;  // the upper half lies behind it on this ray
+      } else if (high.y() < 126 && low.y() < 126 && low.y() > 2) {
+        expected = low;
+        ++behind;
+      } else {
+        continue;  // the step between the halves, or off the texture
+      }
       ASSERT_EQ(frame.object_id.at<uchar>(v, u), 3) << u << "," << v;
       const cv::Vec3b c = frame.rgb.at<cv::Vec3b>(v, u);
-      colour_errors += std::abs(c[0] - hit.x()) > 1.0 || std::abs(c[1] - hit.y()) > 1.0;
-      max_depth_error = std::max(max_depth_error, std::abs(frame.depth_m.at<float>(v, u) - hit.z()));
-      max_plane_offset = std::max(max_plane_offset, std::abs(plane_hit.x() - hit.x()));
-      ++checked;
+      colour_errors += std::abs(c[0] - expected.x()) > 1.0 || std::abs(c[1] - expected.y()) > 1.0;
+      depth_errors += std::abs(frame.depth_m.at<float>(v, u) - expected.z()) > 1e-3;
     }
-  EXPECT_GT(checked, 500);
+  EXPECT_GT(raised, 300);
+  EXPECT_GT(behind, 300);
+  EXPECT_GT(hiding, 100);
   EXPECT_EQ(colour_errors, 0);
-  EXPECT_LT(max_depth_error, 1e-4);
-  EXPECT_GT(max_plane_offset, 30.0);  // the plane's texel would be far off
+  EXPECT_EQ(depth_errors, 0);
 }
 
 TEST(Renderer, SpriteColourAndDepthDescribeTheSamePointFromTwoViews) {

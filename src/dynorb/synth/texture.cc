@@ -50,13 +50,11 @@ Texture MakeSprite(const cv::Mat& bgra, double depth_ratio) {
   cv::Mat smooth;
   cv::blur(bgr, smooth, cv::Size(3, 3));
   bgr.copyTo(smooth, opaque);
-  Texture texture = MakeTexture(smooth);
-
   const int w = bgra.cols;
-  texture.alpha_bulge.create(bgra.size(), CV_32FC2);
+  cv::Mat alpha_bulge(bgra.size(), CV_32FC2);
   for (int y = 0; y < bgra.rows; ++y) {
     const uchar* a = alpha.ptr<uchar>(y);
-    auto* out = texture.alpha_bulge.ptr<cv::Vec2f>(y);
+    auto* out = alpha_bulge.ptr<cv::Vec2f>(y);
     for (int x = 0; x < w; ++x) out[x] = cv::Vec2f(a[x] / 255.0f, 0.0f);
     // Elliptical cross-section over each run of opaque texels in this row.
     int x = 0;
@@ -77,6 +75,18 @@ Texture MakeSprite(const cv::Mat& bgra, double depth_ratio) {
       x = end;
     }
   }
+  return MakeSpriteFromMaps(smooth, alpha_bulge);
+}
+
+Texture MakeSpriteFromMaps(const cv::Mat& bgr, const cv::Mat& alpha_bulge) {
+  CV_Assert(bgr.type() == CV_8UC3 && alpha_bulge.type() == CV_32FC2 && bgr.size() == alpha_bulge.size());
+  Texture texture = MakeTexture(bgr);
+  texture.alpha_bulge = alpha_bulge;
+  cv::Mat bulge;
+  cv::extractChannel(alpha_bulge, bulge, 1);
+  double max_bulge = 0.0;
+  cv::minMaxLoc(bulge, nullptr, &max_bulge);
+  texture.max_bulge = static_cast<float>(std::max(0.0, max_bulge));
   return texture;
 }
 

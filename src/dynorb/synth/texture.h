@@ -12,6 +12,7 @@ namespace dynorb::synth {
 struct Texture {
   std::vector<cv::Mat> levels;  // CV_8UC3 BGR; levels[0] is full resolution
   cv::Mat alpha_bulge;          // sprites only: CV_32FC2 (alpha in [0,1], bulge / sprite width)
+  float max_bulge = 0.f;        // sprites only: the largest bulge in alpha_bulge (see MakeSpriteFromMaps)
 
   bool IsSprite() const { return !alpha_bulge.empty(); }
   int width() const { return levels.empty() ? 0 : levels[0].cols; }
@@ -26,5 +27,8 @@ Texture MakeTexture(const cv::Mat& bgr);
 // width: an elliptical cross-section across each horizontal run of the silhouette with a
 // depth/width ratio of `depth_ratio`.
 Texture MakeSprite(const cv::Mat& bgra, double depth_ratio = 0.55);
+
+// A sprite from its colour (CV_8UC3) and its alpha/bulge map (CV_32FC2, same size); sets max_bulge.
+Texture MakeSpriteFromMaps(const cv::Mat& bgr, const cv::Mat& alpha_bulge);
 
 }  // namespace dynorb::synth
