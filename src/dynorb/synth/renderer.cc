@@ -182,7 +182,7 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
       const float inv_distance = static_cast<float>(1.0 / p.plane_distance_m);
       const float sx = static_cast<float>(p.texel_shift.x()), sy = static_cast<float>(p.texel_shift.y()),
                   sw = static_cast<float>(p.texel_shift.z());
-      cv::Vec2f* trow = sprite_texel->ptr<cv::Vec2f>(y);
+      cv::Vec2f* trow = sprite_texel != nullptr ? sprite_texel->ptr<cv::Vec2f>(y) : nullptr;
       double nx = t(0, 0) * x_begin + t(0, 1) * y + t(0, 2);
       double ny = t(1, 0) * x_begin + t(1, 1) * y + t(1, 2);
       double nw = t(2, 0) * x_begin + t(2, 1) * y + t(2, 2);
@@ -222,7 +222,7 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         if (iz <= zrow[x]) continue;
         zrow[x] = iz;
         irow[x] = static_cast<int>(qi);
-        trow[x] = cv::Vec2f(tx, ty);
+        if (trow != nullptr) trow[x] = cv::Vec2f(tx, ty);
       }
     }
   }
@@ -339,9 +339,9 @@ void Renderer::Render(const std::vector<DrawQuad>& quads, const Rigid3d& cam_fro
   for (const DrawQuad& q : quads) CV_Assert(q.texture != nullptr && !q.texture->levels.empty());
   inv_depth_full_.create(h, w, CV_32F);
   index_full_.create(h, w, CV_32S);
-  texel_full_.create(h, w, CV_32FC2);
+  if (s == 1) texel_full_.create(h, w, CV_32FC2);  // shading texels (only read at this scale)
   Prepare(quads, cam_from_world, 1, &prepared_full_);
-  Rasterise(quads, prepared_full_, &inv_depth_full_, &index_full_, &texel_full_);
+  Rasterise(quads, prepared_full_, &inv_depth_full_, &index_full_, s == 1 ? &texel_full_ : nullptr);
   const std::vector<Prepared>* shade_prepared = &prepared_full_;
   const cv::Mat* shade_index = &index_full_;
   const cv::Mat* shade_texel = &texel_full_;

@@ -80,7 +80,8 @@ class Renderer {
   void Prepare(const std::vector<DrawQuad>& quads, const Rigid3d& cam_from_world, int scale,
                std::vector<Prepared>* prepared) const;
   // Z-buffers all quads at this scale: inverse depth and winning quad index (-1 = none). Where a
-  // sprite wins, `sprite_texel` (CV_32FC2) holds the level-0 texel its surface point shows.
+  // sprite wins, `sprite_texel` (CV_32FC2; nullptr: not needed) holds the level-0 texel its
+  // surface point shows.
   void Rasterise(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
                  cv::Mat* inv_depth, cv::Mat* quad_index, cv::Mat* sprite_texel);
   void Shade(const std::vector<DrawQuad>& quads, const std::vector<Prepared>& prepared,
