@@ -200,10 +200,11 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
           return lookup(tx, ty, &alpha, &bulge) && alpha >= 0.5f && bulge * width_m >= height;
         };
         float above = -1.f, below = -1.f;  // heights bracketing the intersection (above: not under)
+        float below_tx = 0.f, below_ty = 0.f;  // the texel at `below`
         for (int step = 0; step <= kSpriteSearchSteps; ++step) {
           const float height = top * (1.0f - static_cast<float>(step) / kSpriteSearchSteps);
           if (under_surface(height)) {
-            below = height;
+            below = height, below_tx = tx, below_ty = ty;
             break;
           }
           above = height;
@@ -212,17 +213,20 @@ void Renderer::Rasterise(const std::vector<DrawQuad>& quads, const std::vector<P
         if (above >= 0.f) {
           for (int i = 0; i < kSpriteBisections; ++i) {
             const float mid = 0.5f * (above + below);
-            (under_surface(mid) ? below : above) = mid;
+            if (under_surface(mid)) {
+              below = mid, below_tx = tx, below_ty = ty;
+            } else {
+              above = mid;
+            }
           }
         }
-        under_surface(below);  // the texel of the final point
         const float z = z_plane * (1.0f - below * inv_distance);
         if (z <= kNearM) continue;
         const float iz = 1.0f / z;
         if (iz <= zrow[x]) continue;
         zrow[x] = iz;
         irow[x] = static_cast<int>(qi);
-        if (trow != nullptr) trow[x] = cv::Vec2f(tx, ty);
+        if (trow != nullptr) trow[x] = cv::Vec2f(below_tx, below_ty);
       }
     }
   }
