@@ -100,6 +100,7 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   j["seeds"] = seeds;
   j["run_mode"] = plan.suite.run_mode;
   j["pipeline"] = plan.suite.pipeline;
+  j["pipeline_depth"] = plan.suite.pipeline_depth;
   j["sequences"] = nlohmann::json::array();
   for (const BenchSequenceRun& s : plan.sequences) {
     j["sequences"].push_back({{"name", s.name},
@@ -274,6 +275,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       request.mode = run.mode->name;
       request.run_mode = plan.suite.run_mode;
       request.pipeline = plan.suite.pipeline;
+      request.pipeline_depth = plan.suite.pipeline_depth;
       request.seed = run.seed;
       request.frames = seq.frames;
       request.models = options.models;

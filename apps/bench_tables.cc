@@ -196,6 +196,9 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
   r.summary.push_back("generated: " + results.value("generated_utc", std::string("?")) +
                       ", run mode " + suite.value("run_mode", std::string("?")) + ", pipeline " +
                       (suite.contains("pipeline") ? (suite["pipeline"].get<bool>() ? "on" : "off") : "?") +
+                      (suite.contains("pipeline_depth") && suite.value("pipeline", false)
+                           ? " (depth " + std::to_string(suite["pipeline_depth"].get<int>()) + ")"
+                           : "") +
                       ", seeds " +
                       suite["seeds"].dump());
   r.summary.push_back("runs: " + std::to_string(ok) + " ok, " + std::to_string(failed) + " failed" +

@@ -29,9 +29,14 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")
       ->check(CLI::IsMember({"sequential", "parallel"}));
   cmd->add_flag("--pipeline,!--no-pipeline", cli->pipeline,
-               "Start the next frame's detection/filter/description on a second thread while this frame is tracked "
-               "(default; deterministic; the filter's motion prediction is one frame older). --no-pipeline: one "
-               "frame at a time");
+               "Run the next frames' detection/filter/description on a second thread while this frame is tracked "
+               "(default; deterministic; the filter's motion prediction is --pipeline-depth frames older). "
+               "--no-pipeline: one frame at a time");
+  cmd->add_option("--pipeline-depth", cli->pipeline_depth,
+                  "With --pipeline: how many frames' front ends may run ahead of tracking (1..16, default 4; more lets the "
+                  "worker keep going while a keyframe is mapped; deterministic; the motion prediction is that many frames "
+                  "older; live, each frame ahead adds a frame period of latency)")
+      ->check(CLI::Range(1, 16));
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");
   cmd->add_option("--frames", cli->frames, "Frame range A:B (0-based, B exclusive; either side may be empty)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");

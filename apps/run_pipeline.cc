@@ -1,6 +1,7 @@
 #include "run_pipeline.h"
 
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -117,6 +118,7 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
 nlohmann::json RunPipeline(const RunRequest& cli) {
   if (!fs::is_directory(cli.dataset)) throw InputError("dataset folder not found: " + cli.dataset);
   if (cli.overlay_every < 1) throw InputError("overlay_every must be >= 1");
+  if (cli.pipeline_depth < 1 || cli.pipeline_depth > 16) throw InputError("pipeline depth must be 1..16, got " + std::to_string(cli.pipeline_depth));
   std::string config_path = cli.config;
   if (config_path.empty()) {
     config_path = (fs::path(cli.dataset) / "camera.yaml").string();
@@ -203,24 +205,23 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   auto wants_overlay = [&](size_t i) {
     return !cli.overlays.empty() && (i - first) % static_cast<size_t>(cli.overlay_every) == 0;
   };
-  std::optional<LoadedFrame> upcoming;
-  if (first < last) upcoming = load_checked(first);
+  // Pipelining: the front ends of the next `depth` frames run ahead of this frame's tracking.
+  const size_t depth = cli.pipeline ? static_cast<size_t>(cli.pipeline_depth) : 0;
+  std::deque<LoadedFrame> upcoming;
   for (size_t i = first; i < last; ++i) {
-    const LoadedFrame loaded = std::move(*upcoming);
-    upcoming.reset();
-    if (i + 1 < last) upcoming = load_checked(i + 1);  // Pipelining: the next frame's front end starts now.
+    // Frames i .. i + depth loaded (upcoming starts at frame i).
+    while (upcoming.size() < depth + 1 && i + upcoming.size() < last) upcoming.push_back(load_checked(i + upcoming.size()));
+    const LoadedFrame loaded = std::move(upcoming.front());
+    upcoming.pop_front();
     const RgbdFrame& frame = loaded.frame;
     const bool save_overlay = wants_overlay(i);
     system.set_record_overlays(save_overlay);
-    System::NextFrame next;
-    if (cli.pipeline && upcoming) {
-      next.timestamp_s = upcoming->frame.timestamp_s;
-      next.bgr = upcoming->frame.rgb;
-      next.depth_m = upcoming->frame.depth_m;
-      next.want_overlay = wants_overlay(i + 1);
+    std::vector<System::NextFrame> ahead;
+    for (size_t j = 0; j < upcoming.size(); ++j) {
+      ahead.push_back({upcoming[j].frame.timestamp_s, upcoming[j].frame.rgb, upcoming[j].frame.depth_m,
+                       wants_overlay(i + 1 + j)});
     }
-    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m,
-                                                    cli.pipeline && upcoming ? &next : nullptr);
+    const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m, ahead);
     if (masks) {
       // Every frame counts here, judged or not: a mover the pose rests on is a mover.
       const KeypointsOnObjects on = CountOnObjects(record.inliers, loaded.mask, loaded.still, level_scale);
@@ -268,6 +269,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.mode = cli.mode;
   inputs.run_mode = cli.run_mode;
   inputs.pipeline = cli.pipeline;
+  inputs.pipeline_depth = cli.pipeline ? cli.pipeline_depth : 0;
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;

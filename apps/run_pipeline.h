@@ -21,7 +21,8 @@ struct RunRequest {
   std::string models;                  // detector model folder (semantic modes)
   std::string overlays;                // folder for overlay images; empty: none
   int overlay_every = 1;               // draw and save the overlay of every k-th frame only
-  bool pipeline = true;                // next frame's front end overlaps this frame's tracking
+  bool pipeline = true;                // next frames' front ends overlap this frame's tracking
+  int pipeline_depth = 4;              // frames whose front end may run ahead (with pipeline)
   bool quiet = false;                  // no progress bar
 };
 

@@ -90,6 +90,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["build_id"] = BuildId();
   j["run_mode"] = inputs.run_mode;
   j["pipeline"] = inputs.pipeline;
+  j["pipeline_depth"] = inputs.pipeline_depth;
   j["seed"] = inputs.seed;
   j["first_frame"] = inputs.first_frame;
   j["frames"] = records.size();

@@ -15,6 +15,7 @@ struct RunSummaryInputs {
   std::string dataset, config, mode, run_mode;
   uint64_t seed = 0;
   bool pipeline = false;  // RunRequest::pipeline
+  int pipeline_depth = 0;  // RunRequest::pipeline_depth when pipelined, else 0
   size_t first_frame = 0;
   double wall_seconds = 0.0;
 };

@@ -170,7 +170,7 @@ assert sum(int(r["new_landmarks_on_movers"]) for r in rows) == l["on_moving_obje
 assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone seeds hundreds
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
-grep -qF "run mode sequential, pipeline on," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
+grep -qF "run mode sequential, pipeline on (depth 4)," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
@@ -199,6 +199,7 @@ cmp -s "$DIR/fastrun/trajectory.txt" "$DIR/fastrun2/trajectory.txt" || fail "pip
 import json, sys
 piped, single = (json.load(open(f)) for f in sys.argv[1:3])
 assert piped["pipeline"] is True and single["pipeline"] is False, (piped["pipeline"], single["pipeline"])
+assert piped["pipeline_depth"] == 4 and single["pipeline_depth"] == 0, (piped["pipeline_depth"], single["pipeline_depth"])
 for s in (piped, single):
     t = s["timing_ms"]
     assert t["frame_latency"]["count"] == s["frames"] and t["frame_latency"]["mean"] > 0, t["frame_latency"]

@@ -130,7 +130,7 @@ class Parser {
 
   BenchSuite Suite(const YAML::Node& root) const {
     if (!root || root.IsNull()) throw InputError(source_ + ": empty suite file");
-    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "sequences", "modes"},
+    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth", "sequences", "modes"},
               "the suite");
     BenchSuite suite;
     suite.file = source_;
@@ -150,6 +150,10 @@ class Parser {
       }
     }
     if (root["pipeline"]) suite.pipeline = Bool(root["pipeline"], "pipeline");
+    if (root["pipeline_depth"]) {
+      suite.pipeline_depth = PositiveInt(root["pipeline_depth"], "pipeline_depth", 1);
+      if (suite.pipeline_depth > 16) Fail(root["pipeline_depth"], "'pipeline_depth' must be 1..16");
+    }
     const YAML::Node seqs = root["sequences"];
     if (!seqs || !seqs.IsSequence() || seqs.size() == 0) {
       Fail(seqs ? seqs : root, "the suite needs a non-empty list 'sequences'");

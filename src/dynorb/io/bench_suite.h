@@ -60,6 +60,7 @@ struct BenchSuite {
   std::vector<uint64_t> seeds;  // explicit SLAM seeds; empty: 1..repeats
   std::string run_mode = "sequential";
   bool pipeline = true;  // `dynorb run --pipeline` (the default) or --no-pipeline.
+  int pipeline_depth = 4;  // `dynorb run --pipeline-depth` (same default), 1..16.
   std::vector<BenchSequence> sequences;
   std::vector<BenchMode> modes;
 

@@ -65,6 +65,10 @@ TEST(BenchSuite, ExplicitSeeds) {
   EXPECT_EQ(suite.RunSeeds(0), (std::vector<uint64_t>{7, 11}));
   EXPECT_EQ(suite.RunSeeds(1), (std::vector<uint64_t>{1}));
   EXPECT_TRUE(suite.pipeline);  // `dynorb run`'s default.
+  EXPECT_EQ(suite.pipeline_depth, 4);  // `dynorb run --pipeline-depth`'s default (apps/run_pipeline.h).
+  EXPECT_EQ(ParseBenchSuite("pipeline_depth: 2\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
+                .pipeline_depth,
+            2);
   EXPECT_FALSE(ParseBenchSuite("pipeline: false\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
                    .pipeline);
 }
@@ -99,6 +103,10 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:3: 'run_mode' must be sequential or parallel"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline: maybe\n"),
               HasSubstr("suite.yaml:3: 'pipeline' expects true or false"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 0\n"),
+              HasSubstr("suite.yaml:3: 'pipeline_depth' must be >= 1"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 17\n"),
+              HasSubstr("suite.yaml:3: 'pipeline_depth' must be 1..16"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nmodez: [fast]\n"),
               HasSubstr("suite.yaml:3: unknown key 'modez' in the suite"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}\n"), HasSubstr("invalid YAML"));

@@ -34,8 +34,37 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
 
 System::~System() { Finish(); }
 
+void System::StopFrontEndWorker() {
+  // Front ends nobody will ask for are run to the end and dropped.
+  if (front_jobs_) front_jobs_->Close();
+  if (front_thread_.joinable()) front_thread_.join();
+  front_jobs_.reset();
+  pending_.clear();
+}
+
+void System::StartFrontEnd(const NextFrame& frame) {
+  if (!front_jobs_) {
+    // Capacity: never the bound (at most the frames ahead are queued), only a safety net.
+    front_jobs_ = std::make_unique<BlockingQueue<std::packaged_task<FrontEnd()>>>(1024);
+    front_thread_ = std::thread([jobs = front_jobs_.get()] {
+      std::packaged_task<FrontEnd()> job;
+      while (jobs->Pop(&job)) job();
+    });
+  }
+  // Started before this frame is tracked: the velocity and tracker state of the frame before.
+  // Called while frame next_frame_id_ is being processed, after its own front end was taken.
+  const FrameId id = next_frame_id_ + static_cast<FrameId>(pending_.size()) + 1;
+  std::packaged_task<FrontEnd()> job(
+      [this, id, frame, velocity = last_velocity_, initialized = tracker_.state() != TrackingState::kNotInitialized] {
+        return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity, initialized,
+                           frame.want_overlay);
+      });
+  pending_.push_back({frame.timestamp_s, job.get_future()});
+  front_jobs_->Push(std::move(job));
+}
+
 void System::Finish() {
-  if (pending_.valid()) pending_.wait();  // A front end nobody will ask for; its result is dropped.
+  StopFrontEndWorker();
   if (finished_) return;
   finished_ = true;
   queue_.Close();
@@ -68,30 +97,33 @@ void CheckImages(const cv::Mat& bgr, const cv::Mat& depth_m) {
 
 const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
                                         const cv::Mat& depth_m, const NextFrame* next) {
+  return ProcessFrame(timestamp_s, bgr, depth_m, next != nullptr ? std::vector<NextFrame>{*next} : std::vector<NextFrame>{});
+}
+
+const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                        const std::vector<NextFrame>& ahead) {
   CheckImages(bgr, depth_m);
-  if (next != nullptr) CheckImages(next->bgr, next->depth_m);
+  for (const NextFrame& frame : ahead) CheckImages(frame.bgr, frame.depth_m);
+  if (!pending_.empty()) {
+    if (pending_.front().timestamp_s != timestamp_s) {
+      throw std::logic_error("ProcessFrame: this is not the frame announced as `next` by an earlier call");
+    }
+    for (size_t j = 0; j + 1 < pending_.size() && j < ahead.size(); ++j) {
+      if (pending_[j + 1].timestamp_s != ahead[j].timestamp_s)
+        throw std::logic_error("ProcessFrame: the frames ahead are not the ones announced by an earlier call");
+    }
+  }
   Stopwatch call;
   FrontEnd front;
-  if (pending_.valid()) {
-    if (pending_timestamp_s_ != timestamp_s) {
-      throw std::logic_error("ProcessFrame: this is not the frame announced as `next` by the previous call");
-    }
-    front = pending_.get();
+  if (!pending_.empty()) {
+    front = pending_.front().result.get();
+    pending_.pop_front();
     front.record.pipelined = true;
   } else {
     front = RunFrontEnd(next_frame_id_, timestamp_s, bgr, depth_m, last_velocity_,
                         tracker_.state() != TrackingState::kNotInitialized, record_overlays_);
   }
-  if (next != nullptr) {
-    // Started before this frame is tracked: the velocity and tracker state of the frame before.
-    pending_timestamp_s_ = next->timestamp_s;
-    pending_ = std::async(std::launch::async,
-                          [this, id = next_frame_id_ + 1, frame = *next, velocity = last_velocity_,
-                           initialized = tracker_.state() != TrackingState::kNotInitialized] {
-                            return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity,
-                                               initialized, frame.want_overlay);
-                          });
-  }
+  for (size_t j = pending_.size(); j < ahead.size(); ++j) StartFrontEnd(ahead[j]);
 
   Stopwatch back_end;
   FrameRecord& record = front.record;
@@ -190,7 +222,7 @@ System::FrontEnd System::RunFrontEnd(FrameId id, double timestamp_s, const cv::M
 
 const FrameRecord& System::ProcessFeatures(double timestamp_s,
                                            std::shared_ptr<const FrameFeatures> features) {
-  if (pending_.valid()) throw std::logic_error("ProcessFeatures after a pipelined ProcessFrame");
+  if (!pending_.empty()) throw std::logic_error("ProcessFeatures after a pipelined ProcessFrame");
   Stopwatch total;
   FrameRecord record;
   record.id = next_frame_id_;

@@ -1,11 +1,13 @@
 // System: the SLAM facade. Per frame: ORB detection -> optional KeypointFilter (dynamic modes)
 // -> description -> FrameFeatures -> Tracker::ProcessOne -> (new keyframe) LocalMapper.
 //
-// Pipelining (ProcessFrame with a `next` frame): the front end of the next frame (detection,
-// filter, description) runs on a worker thread while this frame is tracked and mapped, so the
-// filter's and detector's single-threaded parts overlap tracking and bundle adjustment. The next
-// frame's filter then gets the motion prediction from one frame earlier (the velocity known when
-// it was started), fixed by design: a pipelined sequential run is deterministic too.
+// Pipelining (ProcessFrame with frames ahead): the front ends of the next frames (detection,
+// filter, description) run, in frame order, on a worker thread while this frame is tracked and
+// mapped, so the filter's and detector's single-threaded parts overlap tracking and bundle
+// adjustment. With D frames ahead the worker can keep working through a keyframe's inline
+// mapping (≈ 100-150 ms) instead of idling after one frame. A front end started D frames early
+// gets the motion prediction known when it was started (the velocity of the frame D+1 before
+// it), fixed by design: a pipelined sequential run is deterministic too.
 //
 // Run modes: kSequential runs the mapper inline right after the frame that created a keyframe
 // (deterministic: same input => bit-identical trajectory); kParallel runs it in a worker thread
@@ -16,6 +18,7 @@
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -108,6 +111,12 @@ class System {
   // InputError for bad images (a bad `next` is reported by this call, before any work).
   const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                                   const NextFrame* next = nullptr);
+  // The same with the frames after this one, in order (ahead[0] is the next frame). Their front
+  // ends not yet started are queued on the worker; those already started must come in the same
+  // order with the same timestamps (otherwise std::logic_error, before any work). A deterministic
+  // caller passes the same number of frames ahead each call (fewer only at the end).
+  const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                  const std::vector<NextFrame>& ahead);
   // Tracking from ready-made features (tests, external front ends).
   const FrameRecord& ProcessFeatures(double timestamp_s,
                                      std::shared_ptr<const FrameFeatures> features);
@@ -158,9 +167,18 @@ class System {
   mutable std::mutex stats_mutex_;
   std::vector<MapperStepStats> mapper_stats_;
   bool finished_ = false;
-  // The next frame's front end running on the worker thread (pipelining), and its timestamp.
-  std::future<FrontEnd> pending_;
-  double pending_timestamp_s_ = 0.0;
+  // Front ends queued or running on the worker thread (pipelining), oldest first.
+  struct Pending {
+    double timestamp_s = 0.0;
+    std::future<FrontEnd> result;
+  };
+  std::deque<Pending> pending_;
+  // The worker: runs the queued front ends one after the other, in frame order (the filter and
+  // the extractor carry state from frame to frame). Started on the first pipelined call.
+  void StartFrontEnd(const NextFrame& frame);
+  void StopFrontEndWorker();
+  std::unique_ptr<BlockingQueue<std::packaged_task<FrontEnd()>>> front_jobs_;
+  std::thread front_thread_;
 };
 
 }  // namespace dynorb

@@ -156,9 +156,11 @@ TEST(System, RecordsTheKeypointsThePoseRestsOnAndTheNewLandmarks) {
 // Keeps every keypoint and records the motion prediction each frame was handed.
 class PredictionRecorder : public KeypointFilter {
  public:
-  explicit PredictionRecorder(std::vector<std::optional<Rigid3d>>* seen) : seen_(seen) {}
+  explicit PredictionRecorder(std::vector<std::optional<Rigid3d>>* seen, std::vector<FrameId>* order = nullptr)
+      : seen_(seen), order_(order) {}
   std::string name() const override { return "prediction-recorder"; }
   FilterOutput Filter(const FilterInput& input) override {
+    if (order_ != nullptr) order_->push_back(input.frame_id);
     seen_->resize(std::max<size_t>(seen_->size(), input.frame_id + 1));
     (*seen_)[input.frame_id] = input.predicted_cam_from_previous_cam;
     FilterOutput out;
@@ -168,6 +170,7 @@ class PredictionRecorder : public KeypointFilter {
 
  private:
   std::vector<std::optional<Rigid3d>>* seen_;
+  std::vector<FrameId>* order_;
 };
 
 // A camera sliding sideways 3 px per frame over a textured wall 2 m away.
@@ -185,17 +188,21 @@ struct PipelineRun {
   Trajectory trajectory;
   std::vector<std::optional<Rigid3d>> predictions;
   std::vector<bool> pipelined;
+  std::vector<FrameId> filter_order;  // Frame ids in the order the filter saw them.
 };
 
-PipelineRun RunSliding(bool pipelined, int frames) {
+// depth 0: no pipelining; depth D: the front ends of the next D frames are handed in each call.
+PipelineRun RunSliding(int depth, int frames) {
   FeatureWorld world(1);
   const SlidingCamera camera;
   PipelineRun run;
-  System system(Options(world, RunMode::kSequential), std::make_unique<PredictionRecorder>(&run.predictions));
+  System system(Options(world, RunMode::kSequential), std::make_unique<PredictionRecorder>(&run.predictions, &run.filter_order));
   for (int k = 0; k < frames; ++k) {
-    System::NextFrame next{(k + 1) / 30.0, camera.Bgr(k + 1), camera.Depth(), false};
-    const FrameRecord& r =
-        system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), pipelined && k + 1 < frames ? &next : nullptr);
+    std::vector<System::NextFrame> ahead;
+    for (int j = k + 1; j <= k + depth && j < frames; ++j) ahead.push_back({j / 30.0, camera.Bgr(j), camera.Depth(), false});
+    const FrameRecord& r = depth == 1 && !ahead.empty()
+                               ? system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), &ahead[0])
+                               : system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), ahead);
     run.pipelined.push_back(r.pipelined);
   }
   system.Finish();
@@ -204,9 +211,9 @@ PipelineRun RunSliding(bool pipelined, int frames) {
 }
 
 TEST(System, PipeliningHandsTheFilterThePredictionOfTheFrameBefore) {
-  const PipelineRun plain = RunSliding(false, 8);
-  const PipelineRun piped = RunSliding(true, 8);
-  const PipelineRun again = RunSliding(true, 8);
+  const PipelineRun plain = RunSliding(0, 8);
+  const PipelineRun piped = RunSliding(1, 8);
+  const PipelineRun again = RunSliding(1, 8);
   ASSERT_EQ(plain.trajectory.size(), 8u);
   ASSERT_EQ(piped.trajectory.size(), 8u);
   ASSERT_EQ(piped.predictions.size(), 8u);
@@ -228,6 +235,36 @@ TEST(System, PipeliningHandsTheFilterThePredictionOfTheFrameBefore) {
     if (piped.predictions[k]) {
       EXPECT_EQ(piped.predictions[k]->ToMatrix(), plain.predictions[k - 1]->ToMatrix()) << k;
     }
+  }
+}
+
+TEST(System, DeeperPipelinesRunFrontEndsInOrderWithPredictionsDepthFramesOlder) {
+  const PipelineRun plain = RunSliding(0, 10);
+  for (int depth : {2, 3}) {
+    const PipelineRun piped = RunSliding(depth, 10);
+    const PipelineRun again = RunSliding(depth, 10);
+    ASSERT_EQ(piped.trajectory.size(), 10u) << depth;
+    ASSERT_EQ(piped.predictions.size(), 10u) << depth;
+    std::vector<FrameId> in_order(10);
+    for (FrameId k = 0; k < 10; ++k) in_order[k] = k;
+    EXPECT_EQ(piped.filter_order, in_order) << depth;  // One front end per frame, in frame order.
+    for (size_t i = 0; i < 10; ++i) {
+      EXPECT_EQ(plain.trajectory[i].world_from_cam.ToMatrix(), piped.trajectory[i].world_from_cam.ToMatrix()) << i;
+      EXPECT_EQ(again.trajectory[i].world_from_cam.ToMatrix(), piped.trajectory[i].world_from_cam.ToMatrix()) << i;
+      EXPECT_EQ(piped.pipelined[i], i > 0) << i;
+    }
+    // Frame k's front end was started while frame k - depth was processed, before it was
+    // tracked: it has the velocity frame k - depth gets unpipelined.
+    for (size_t k = 0; k < 10; ++k) {
+      const int source = static_cast<int>(k) - depth;
+      if (source < 0) {
+        EXPECT_FALSE(piped.predictions[k].has_value()) << depth << " " << k;
+        continue;
+      }
+      ASSERT_EQ(piped.predictions[k].has_value(), plain.predictions[source].has_value()) << depth << " " << k;
+      if (piped.predictions[k]) EXPECT_EQ(piped.predictions[k]->ToMatrix(), plain.predictions[source]->ToMatrix());
+    }
+    EXPECT_TRUE(piped.predictions[depth + 2].has_value()) << depth;
   }
 }
 
@@ -256,7 +293,14 @@ TEST(System, PipeliningRejectsAFrameOtherThanTheAnnouncedOneAndBadLookahead) {
   system.ProcessFrame(0.0, camera.Bgr(0), camera.Depth(), &next);
   EXPECT_THROW(system.ProcessFrame(2.0 / 30.0, camera.Bgr(2), camera.Depth()), std::logic_error);
   EXPECT_EQ(system.records().size(), 1u);
-  system.Finish();  // The announced front end is waited for and dropped.
+  // Frames ahead other than the announced ones.
+  std::vector<System::NextFrame> ahead = {{2.0 / 30.0, camera.Bgr(2), camera.Depth(), false},
+                                          {3.0 / 30.0, camera.Bgr(3), camera.Depth(), false}};
+  system.ProcessFrame(1.0 / 30.0, camera.Bgr(1), camera.Depth(), ahead);
+  std::vector<System::NextFrame> wrong = {{4.0 / 30.0, camera.Bgr(4), camera.Depth(), false}};
+  EXPECT_THROW(system.ProcessFrame(2.0 / 30.0, camera.Bgr(2), camera.Depth(), wrong), std::logic_error);
+  EXPECT_EQ(system.records().size(), 2u);
+  system.Finish();  // The announced front ends are run and dropped.
 }
 
 TEST(System, RejectsBadImages) {
