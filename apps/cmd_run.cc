@@ -36,7 +36,7 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
                   "With --pipeline: how many frames' front ends may run ahead of tracking (1..16, default 4; more lets the "
                   "worker keep going while a keyframe is mapped; deterministic; the motion prediction is that many frames "
                   "older; live, each frame ahead adds a frame period of latency)")
-      ->check(CLI::Range(1, 16));
+      ->check(CLI::Range(1, kMaxPipelineDepth));
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");
   cmd->add_option("--frames", cli->frames, "Frame range A:B (0-based, B exclusive; either side may be empty)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");

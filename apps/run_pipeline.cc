@@ -118,7 +118,10 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
 nlohmann::json RunPipeline(const RunRequest& cli) {
   if (!fs::is_directory(cli.dataset)) throw InputError("dataset folder not found: " + cli.dataset);
   if (cli.overlay_every < 1) throw InputError("overlay_every must be >= 1");
-  if (cli.pipeline_depth < 1 || cli.pipeline_depth > 16) throw InputError("pipeline depth must be 1..16, got " + std::to_string(cli.pipeline_depth));
+  if (cli.pipeline_depth < 1 || cli.pipeline_depth > kMaxPipelineDepth) {
+    throw InputError("pipeline depth must be 1.." + std::to_string(kMaxPipelineDepth) + ", got " +
+                     std::to_string(cli.pipeline_depth));
+  }
   std::string config_path = cli.config;
   if (config_path.empty()) {
     config_path = (fs::path(cli.dataset) / "camera.yaml").string();
@@ -210,7 +213,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   std::deque<LoadedFrame> upcoming;
   for (size_t i = first; i < last; ++i) {
     // Frames i .. i + depth loaded (upcoming starts at frame i).
-    while (upcoming.size() < depth + 1 && i + upcoming.size() < last) upcoming.push_back(load_checked(i + upcoming.size()));
+    while (upcoming.size() < depth + 1 && i + upcoming.size() < last) {
+      upcoming.push_back(load_checked(i + upcoming.size()));
+    }
     const LoadedFrame loaded = std::move(upcoming.front());
     upcoming.pop_front();
     const RgbdFrame& frame = loaded.frame;

@@ -10,6 +10,8 @@
 
 namespace dynorb {
 
+inline constexpr int kMaxPipelineDepth = 16;  // RunRequest::pipeline_depth is 1..this
+
 struct RunRequest {
   std::string dataset;                 // sequence folder
   std::string config;                  // YAML; empty: DATASET/camera.yaml
