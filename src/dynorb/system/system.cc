@@ -116,8 +116,16 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
   Stopwatch call;
   FrontEnd front;
   if (!pending_.empty()) {
-    front = pending_.front().result.get();
+    std::future<FrontEnd> result = std::move(pending_.front().result);
     pending_.pop_front();
+    try {
+      front = result.get();
+    } catch (...) {
+      // As when an unpipelined front end throws: this frame is not processed, and neither are
+      // the frames announced after it (their front ends are run to the end and dropped).
+      StopFrontEndWorker();
+      throw;
+    }
     front.record.pipelined = true;
   } else {
     front = RunFrontEnd(next_frame_id_, timestamp_s, bgr, depth_m, last_velocity_,

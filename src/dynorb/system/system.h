@@ -115,6 +115,9 @@ class System {
   // ends not yet started are queued on the worker; those already started must come in the same
   // order with the same timestamps (otherwise std::logic_error, before any work). A deterministic
   // caller passes the same number of frames ahead each call (fewer only at the end).
+  // When a front end throws (e.g. a filter's corrupt mask file), that exception is rethrown by
+  // the call for its frame, which is then not processed, and the frames announced after it are
+  // dropped: the next call may pass any frame, as after an unpipelined failure.
   const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                                   const std::vector<NextFrame>& ahead);
   // Tracking from ready-made features (tests, external front ends).

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <memory>
 #include <optional>
+#include <string>
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/error.h"
@@ -262,7 +263,9 @@ TEST(System, DeeperPipelinesRunFrontEndsInOrderWithPredictionsDepthFramesOlder) 
         continue;
       }
       ASSERT_EQ(piped.predictions[k].has_value(), plain.predictions[source].has_value()) << depth << " " << k;
-      if (piped.predictions[k]) EXPECT_EQ(piped.predictions[k]->ToMatrix(), plain.predictions[source]->ToMatrix());
+      if (piped.predictions[k]) {
+        EXPECT_EQ(piped.predictions[k]->ToMatrix(), plain.predictions[source]->ToMatrix());
+      }
     }
     EXPECT_TRUE(piped.predictions[depth + 2].has_value()) << depth;
   }
@@ -301,6 +304,63 @@ TEST(System, PipeliningRejectsAFrameOtherThanTheAnnouncedOneAndBadLookahead) {
   EXPECT_THROW(system.ProcessFrame(2.0 / 30.0, camera.Bgr(2), camera.Depth(), wrong), std::logic_error);
   EXPECT_EQ(system.records().size(), 2u);
   system.Finish();  // The announced front ends are run and dropped.
+}
+
+// Keeps every keypoint; throws the first time it sees frame `fail_id` (a corrupt mask file).
+class FailOnceFilter : public KeypointFilter {
+ public:
+  FailOnceFilter(FrameId fail_id, std::vector<double>* seen) : fail_id_(fail_id), seen_(seen) {}
+  std::string name() const override { return "fail-once"; }
+  FilterOutput Filter(const FilterInput& input) override {
+    seen_->push_back(input.timestamp_s);
+    if (input.frame_id == fail_id_ && !failed_) {
+      failed_ = true;
+      throw InputError("corrupt mask for frame " + std::to_string(input.frame_id));
+    }
+    FilterOutput out;
+    out.keep.assign(input.keypoints->keypoints.size(), true);
+    return out;
+  }
+
+ private:
+  FrameId fail_id_;
+  std::vector<double>* seen_;
+  bool failed_ = false;
+};
+
+TEST(System, AFailedPipelinedFrontEndRethrowsItsErrorAndDropsTheFramesAnnouncedAfterIt) {
+  for (int depth : {0, 1, 2}) {
+    FeatureWorld world(1);
+    const SlidingCamera camera;
+    std::vector<double> seen;
+    System system(Options(world, RunMode::kSequential), std::make_unique<FailOnceFilter>(3, &seen));
+    auto ahead_of = [&](int k) {
+      std::vector<System::NextFrame> ahead;
+      for (int j = k + 1; j <= k + depth; ++j) ahead.push_back({j / 30.0, camera.Bgr(j), camera.Depth(), false});
+      return ahead;
+    };
+    for (int k = 0; k < 3; ++k) system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), ahead_of(k));
+    try {
+      system.ProcessFrame(3 / 30.0, camera.Bgr(3), camera.Depth(), ahead_of(3));
+      ADD_FAILURE() << "no exception at depth " << depth;
+    } catch (const InputError& e) {  // The filter's own error, not std::future_error.
+      EXPECT_NE(std::string(e.what()).find("corrupt mask for frame 3"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(system.records().size(), 3u) << depth;
+    // Frame 3 is skipped; the next call may start anywhere (here frame 5, not the announced 4).
+    const size_t filtered_before = seen.size();
+    for (int k = 5; k < 9; ++k) {
+      const FrameRecord& r = system.ProcessFrame(k / 30.0, camera.Bgr(k), camera.Depth(), ahead_of(k));
+      EXPECT_EQ(r.timestamp_s, k / 30.0) << depth;
+      EXPECT_EQ(r.state, TrackingState::kOk) << depth << " " << k;
+    }
+    system.Finish();
+    ASSERT_EQ(system.records().size(), 7u) << depth;
+    EXPECT_EQ(system.records()[3].id, 3u) << depth;  // Ids stay consecutive.
+    // After the failure the filter saw frames 5.. in order (the dropped ones ran before).
+    ASSERT_GE(seen.size(), filtered_before + 4) << depth;
+    for (int k = 5; k < 9; ++k) EXPECT_EQ(seen[filtered_before + (k - 5)], k / 30.0) << depth;
+  }
 }
 
 TEST(System, RejectsBadImages) {
