@@ -1,0 +1,71 @@
+// Benchmarks of the local bundle adjustment (dynorb/optimization): a problem the size of the
+// walking sequences' local windows (~20 keyframes, 8 of them fixed, ~1700 points, ~5000
+// observations, 70 % with depth), solved as the local mapper solves it (5 robust + 10 L2 LM
+// iterations). Arg: number of points.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "dynorb/optimization/bundle_adjuster.h"
+#include "dynorb/optimization/test_scene.h"
+
+namespace dynorb {
+namespace {
+
+struct BaScene {
+  PinholeCamera camera{525.0, 525.0, 319.5, 239.5};
+  double bf = 40.0;
+  std::vector<BaKeyframe> keyframes;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<BaObservation> observations;
+};
+
+BaScene MakeScene(int num_points) {
+  BaScene s;
+  std::mt19937_64 rng(5);
+  const int num_keyframes = 20, num_fixed = 8;
+  for (int k = 0; k < num_keyframes; ++k) {
+    // Keyframes 5 cm apart along x, turning 1 degree each.
+    const Rigid3d world_from_cam(Eigen::Quaterniond(Eigen::AngleAxisd(0.0175 * k, Eigen::Vector3d::UnitY())),
+                                 Eigen::Vector3d(0.05 * k, 0.0, 0.0));
+    const Rigid3d truth = world_from_cam.Inverse();
+    BaKeyframe kf;
+    kf.fixed = k < num_fixed;
+    kf.cam_from_world = kf.fixed ? truth : testing::Perturb(truth, 0.005, 0.01, rng);
+    s.keyframes.push_back(kf);
+  }
+  const std::vector<Eigen::Vector3d> truth_points = testing::RandomPointsInWorld(num_points, rng);
+  std::uniform_int_distribution<int> pick(0, num_keyframes - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> jitter(0.0, 0.02);
+  for (int i = 0; i < num_points; ++i) {
+    s.points.push_back(truth_points[i] + Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng)));
+    const int first = pick(rng);
+    for (int j = 0; j < 3; ++j) {  // Three consecutive keyframes see each point.
+      const int k = (first + j) % num_keyframes;
+      const Rigid3d truth = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.0175 * k, Eigen::Vector3d::UnitY())),
+                                    Eigen::Vector3d(0.05 * k, 0.0, 0.0))
+                                .Inverse();
+      BaObservation obs;
+      obs.keyframe_index = k;
+      obs.landmark_index = i;
+      obs.keypoint = testing::Observe(s.camera, s.bf, truth, truth_points[i], unit(rng) < 0.7, 1.0, rng);
+      s.observations.push_back(obs);
+    }
+  }
+  return s;
+}
+
+void BM_LocalBundleAdjustment(benchmark::State& state) {
+  const BaScene scene = MakeScene(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    const BundleAdjusterResult r =
+        RunBundleAdjustment(scene.camera, scene.bf, scene.keyframes, scene.points, scene.observations);
+    benchmark::DoNotOptimize(r.final_cost);
+  }
+  state.counters["observations"] = static_cast<double>(scene.observations.size());
+}
+BENCHMARK(BM_LocalBundleAdjustment)->Arg(600)->Arg(1700)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace dynorb
