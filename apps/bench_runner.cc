@@ -101,6 +101,7 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   j["run_mode"] = plan.suite.run_mode;
   j["pipeline"] = plan.suite.pipeline;
   j["pipeline_depth"] = plan.suite.pipeline_depth;
+  j["preload"] = plan.suite.preload;
   j["sequences"] = nlohmann::json::array();
   for (const BenchSequenceRun& s : plan.sequences) {
     j["sequences"].push_back({{"name", s.name},
@@ -276,6 +277,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       request.run_mode = plan.suite.run_mode;
       request.pipeline = plan.suite.pipeline;
       request.pipeline_depth = plan.suite.pipeline_depth;
+      request.preload = plan.suite.preload;
       request.seed = run.seed;
       request.frames = seq.frames;
       request.models = options.models;

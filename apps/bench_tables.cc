@@ -199,6 +199,7 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
                       (suite.contains("pipeline_depth") && suite.value("pipeline", false)
                            ? " (depth " + std::to_string(suite["pipeline_depth"].get<int>()) + ")"
                            : "") +
+                      (suite.value("preload", false) ? ", frames preloaded (live-camera timing)" : "") +
                       ", seeds " +
                       suite["seeds"].dump());
   r.summary.push_back("runs: " + std::to_string(ok) + " ok, " + std::to_string(failed) + " failed" +

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -24,6 +25,7 @@
 #include "dynorb/io/tum_sequence.h"
 #include "dynorb/system/system.h"
 #include "dynamic_labels.h"
+#include "preload_budget.h"
 #include "progress_bar.h"
 #include "run_modes.h"
 #include "run_report.h"
@@ -184,7 +186,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     cv::Mat mask;   // Ground-truth moving-object mask (empty without masks).
     cv::Mat still;  // Its objects that stand still at this frame (empty: none or no objects.txt).
   };
-  Prefetcher<LoadedFrame> frames(last - first, [&sequence, &masks, first](size_t k) {
+  auto load = [&sequence, &masks, first](size_t k) {
     LoadedFrame loaded;
     loaded.frame = sequence.Frame(first + k);
     if (masks) {
@@ -192,9 +194,24 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       loaded.still = masks->StillObjectsAt(loaded.mask, loaded.frame.timestamp_s);
     }
     return loaded;
-  });
+  };
+  // --preload: every frame decoded before the clock starts; otherwise decoded on a prefetch thread.
+  std::vector<LoadedFrame> preloaded;
+  std::unique_ptr<Prefetcher<LoadedFrame>> prefetcher;
+  double preload_seconds = 0.0;
+  if (cli.preload) {
+    const PinholeCamera& camera = options.sensor.camera;
+    CheckPreloadFits(last - first, PreloadBytes(last - first, camera.width, camera.height, masks.has_value()),
+                     PhysicalMemoryBytes());
+    preloaded.reserve(last - first);
+    for (size_t k = 0; k < last - first; ++k) preloaded.push_back(load(k));
+    preload_seconds = wall.ElapsedMs() / 1000.0;
+    wall.Restart();
+  } else {
+    prefetcher = std::make_unique<Prefetcher<LoadedFrame>>(last - first, load);
+  }
   auto load_checked = [&](size_t i) {
-    LoadedFrame loaded = frames.Next();
+    LoadedFrame loaded = cli.preload ? std::move(preloaded[i - first]) : prefetcher->Next();
     const RgbdFrame& frame = loaded.frame;
     if (frame.rgb.cols != options.sensor.camera.width || frame.rgb.rows != options.sensor.camera.height) {
       throw InputError(sequence.ResolvePath(sequence.entries()[i].rgb_path) + ": image is " +
@@ -278,6 +295,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;
+  inputs.preload = cli.preload;
+  inputs.preload_seconds = preload_seconds;
   std::optional<EvalResult> ate;
   if (sequence.HasGroundTruth() && trajectory.size() >= 3) {
     ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());

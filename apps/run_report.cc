@@ -91,6 +91,10 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["run_mode"] = inputs.run_mode;
   j["pipeline"] = inputs.pipeline;
   j["pipeline_depth"] = inputs.pipeline_depth;
+  // Frames decoded before the run (--preload): the timings then exclude PNG decoding competing
+  // for the cores, as with a live camera.
+  j["preload"] = inputs.preload;
+  if (inputs.preload) j["preload_seconds"] = inputs.preload_seconds;
   j["seed"] = inputs.seed;
   j["first_frame"] = inputs.first_frame;
   j["frames"] = records.size();

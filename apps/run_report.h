@@ -17,7 +17,9 @@ struct RunSummaryInputs {
   bool pipeline = false;  // RunRequest::pipeline
   int pipeline_depth = 0;  // RunRequest::pipeline_depth when pipelined, else 0
   size_t first_frame = 0;
-  double wall_seconds = 0.0;
+  double wall_seconds = 0.0;     // from the first frame's processing (after a preload)
+  bool preload = false;          // RunRequest::preload
+  double preload_seconds = 0.0;  // decoding every frame before the run (with preload)
 };
 
 // ATE/RPE of the estimate against the sequence's ground truth, restricted to the time span of the

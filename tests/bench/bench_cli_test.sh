@@ -120,6 +120,7 @@ err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
 cat >"$DIR/tiny.yaml" <<'EOF'
 name: tiny
 repeats: 1
+preload: true
 sequences:
   - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true}}
 modes:
@@ -145,6 +146,8 @@ for run in r["runs"]:
     s = run["stats"]
     assert run["status"] == "ok" and s["frames"] == 14, run
     assert s["ate"]["rmse_m"] >= 0 and "frame_total" in s["timing_ms"]
+    assert s["preload"] is True and s["preload_seconds"] > 0, s.get("preload")  # the suite's preload: true
+assert r["suite"]["preload"] is True
 assert "dynamic_keypoints" in r["runs"][0]["stats"]
 EOF
 /usr/bin/python3 - "$OUT/runs/syn/plain/seed1/frames.csv" "$OUT/runs/syn/plain/seed1/stats.json" <<'EOF' || fail "frames.csv content"
@@ -171,6 +174,8 @@ assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone s
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 grep -qF "run mode sequential, pipeline on (depth 4)," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
+grep -qF "pipeline on (depth 4), frames preloaded (live-camera timing)," "$OUT/report.md" ||
+  fail "tiny report does not say the frames were preloaded"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
@@ -206,6 +211,17 @@ for s in (piped, single):
 # Without pipelining the caller waits for the whole frame: total = latency (to timer resolution).
 t = single["timing_ms"]
 assert abs(t["frame_total"]["mean"] - t["frame_latency"]["mean"]) < 0.05 * t["frame_latency"]["mean"], t
+EOF
+# --preload: every frame decoded before the clock starts; the same trajectory, and stats.json says so.
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastpre" --quiet --preload \
+  >/dev/null 2>&1 || fail "fast run --preload"
+cmp -s "$DIR/fastrun/trajectory.txt" "$DIR/fastpre/trajectory.txt" || fail "--preload changed the trajectory"
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/fastpre/stats.json" <<'EOF' || fail "preload flag in stats.json"
+import json, sys
+streamed, preloaded = (json.load(open(f)) for f in sys.argv[1:3])
+assert streamed["preload"] is False and "preload_seconds" not in streamed, streamed.get("preload")
+assert preloaded["preload"] is True and preloaded["preload_seconds"] > 0, preloaded.get("preload_seconds")
+assert preloaded["frames"] == streamed["frames"] == 14
 EOF
 /usr/bin/python3 - "$DIR/fastrun/frames.csv" <<'EOF' || fail "fast frames.csv: the first frame is not judged"
 import csv, sys

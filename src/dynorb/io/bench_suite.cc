@@ -130,7 +130,8 @@ class Parser {
 
   BenchSuite Suite(const YAML::Node& root) const {
     if (!root || root.IsNull()) throw InputError(source_ + ": empty suite file");
-    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth", "sequences", "modes"},
+    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth", "preload", "sequences",
+               "modes"},
               "the suite");
     BenchSuite suite;
     suite.file = source_;
@@ -154,6 +155,7 @@ class Parser {
       suite.pipeline_depth = PositiveInt(root["pipeline_depth"], "pipeline_depth", 1);
       if (suite.pipeline_depth > 16) Fail(root["pipeline_depth"], "'pipeline_depth' must be 1..16");
     }
+    if (root["preload"]) suite.preload = Bool(root["preload"], "preload");
     const YAML::Node seqs = root["sequences"];
     if (!seqs || !seqs.IsSequence() || seqs.size() == 0) {
       Fail(seqs ? seqs : root, "the suite needs a non-empty list 'sequences'");

@@ -71,6 +71,9 @@ TEST(BenchSuite, ExplicitSeeds) {
             2);
   EXPECT_FALSE(ParseBenchSuite("pipeline: false\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
                    .pipeline);
+  EXPECT_FALSE(suite.preload);  // `dynorb run`'s default: frames decoded while the run goes.
+  EXPECT_TRUE(ParseBenchSuite("preload: true\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
+                  .preload);
 }
 
 TEST(BenchSuite, BadSuitesNameFileAndLine) {
@@ -103,6 +106,8 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:3: 'run_mode' must be sequential or parallel"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline: maybe\n"),
               HasSubstr("suite.yaml:3: 'pipeline' expects true or false"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npreload: 2\n"),
+              HasSubstr("suite.yaml:3: 'preload' expects true or false"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 0\n"),
               HasSubstr("suite.yaml:3: 'pipeline_depth' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 17\n"),
