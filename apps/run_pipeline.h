@@ -27,7 +27,7 @@ struct RunRequest {
   int pipeline_depth = 4;              // frames whose front end may run ahead (with pipeline)
   bool quiet = false;                  // no progress bar
   // Decode every frame before the run (timing as with a live camera: no PNG decoding competing
-  // for the cores; memory ~2.5 MB per 640x480 frame, checked against the machine's).
+  // for the cores; memory ~2.2-2.8 MB per 640x480 frame, checked against the machine's).
   bool preload = false;
 };
 

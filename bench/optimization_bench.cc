@@ -21,15 +21,19 @@ struct BaScene {
   std::vector<BaObservation> observations;
 };
 
+// Keyframe k's true pose: keyframes 5 cm apart along x, turning 1 degree each.
+Rigid3d TruthCamFromWorld(int k) {
+  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.0175 * k, Eigen::Vector3d::UnitY())),
+                 Eigen::Vector3d(0.05 * k, 0.0, 0.0))
+      .Inverse();
+}
+
 BaScene MakeScene(int num_points) {
   BaScene s;
   std::mt19937_64 rng(5);
   const int num_keyframes = 20, num_fixed = 8;
   for (int k = 0; k < num_keyframes; ++k) {
-    // Keyframes 5 cm apart along x, turning 1 degree each.
-    const Rigid3d world_from_cam(Eigen::Quaterniond(Eigen::AngleAxisd(0.0175 * k, Eigen::Vector3d::UnitY())),
-                                 Eigen::Vector3d(0.05 * k, 0.0, 0.0));
-    const Rigid3d truth = world_from_cam.Inverse();
+    const Rigid3d truth = TruthCamFromWorld(k);
     BaKeyframe kf;
     kf.fixed = k < num_fixed;
     kf.cam_from_world = kf.fixed ? truth : testing::Perturb(truth, 0.005, 0.01, rng);
@@ -44,13 +48,11 @@ BaScene MakeScene(int num_points) {
     const int first = pick(rng);
     for (int j = 0; j < 3; ++j) {  // Three consecutive keyframes see each point.
       const int k = (first + j) % num_keyframes;
-      const Rigid3d truth = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.0175 * k, Eigen::Vector3d::UnitY())),
-                                    Eigen::Vector3d(0.05 * k, 0.0, 0.0))
-                                .Inverse();
       BaObservation obs;
       obs.keyframe_index = k;
       obs.landmark_index = i;
-      obs.keypoint = testing::Observe(s.camera, s.bf, truth, truth_points[i], unit(rng) < 0.7, 1.0, rng);
+      obs.keypoint = testing::Observe(s.camera, s.bf, TruthCamFromWorld(k), truth_points[i], unit(rng) < 0.7,
+                                      1.0, rng);
       s.observations.push_back(obs);
     }
   }
