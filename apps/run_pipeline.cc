@@ -186,9 +186,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     cv::Mat mask;   // Ground-truth moving-object mask (empty without masks).
     cv::Mat still;  // Its objects that stand still at this frame (empty: none or no objects.txt).
   };
-  auto load = [&sequence, &masks, first](size_t k) {
+  // A frame of the wrong size is refused as soon as it is decoded (with --preload: before the
+  // remaining frames are decoded).
+  const int width = options.sensor.camera.width, height = options.sensor.camera.height;
+  auto load = [&sequence, &masks, &config_path, first, width, height](size_t k) {
     LoadedFrame loaded;
     loaded.frame = sequence.Frame(first + k);
+    const cv::Mat& rgb = loaded.frame.rgb;
+    if (rgb.cols != width || rgb.rows != height) {
+      throw InputError(sequence.ResolvePath(sequence.entries()[first + k].rgb_path) + ": image is " +
+                       std::to_string(rgb.cols) + "x" + std::to_string(rgb.rows) + " but " + config_path + " says " +
+                       std::to_string(width) + "x" + std::to_string(height));
+    }
     if (masks) {
       loaded.mask = masks->MaskAt(loaded.frame.timestamp_s);
       loaded.still = masks->StillObjectsAt(loaded.mask, loaded.frame.timestamp_s);
@@ -210,16 +219,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   } else {
     prefetcher = std::make_unique<Prefetcher<LoadedFrame>>(last - first, load);
   }
-  auto load_checked = [&](size_t i) {
-    LoadedFrame loaded = cli.preload ? std::move(preloaded[i - first]) : prefetcher->Next();
-    const RgbdFrame& frame = loaded.frame;
-    if (frame.rgb.cols != options.sensor.camera.width || frame.rgb.rows != options.sensor.camera.height) {
-      throw InputError(sequence.ResolvePath(sequence.entries()[i].rgb_path) + ": image is " +
-                       std::to_string(frame.rgb.cols) + "x" + std::to_string(frame.rgb.rows) + " but " + config_path +
-                       " says " + std::to_string(options.sensor.camera.width) + "x" +
-                       std::to_string(options.sensor.camera.height));
-    }
-    return loaded;
+  auto next_loaded = [&](size_t i) {
+    return cli.preload ? std::move(preloaded[i - first]) : prefetcher->Next();
   };
   // The filter draws its overlay only on the frames that are saved (the drawing is timed).
   auto wants_overlay = [&](size_t i) {
@@ -231,7 +232,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   for (size_t i = first; i < last; ++i) {
     // Frames i .. i + depth loaded (upcoming starts at frame i).
     while (upcoming.size() < depth + 1 && i + upcoming.size() < last) {
-      upcoming.push_back(load_checked(i + upcoming.size()));
+      upcoming.push_back(next_loaded(i + upcoming.size()));
     }
     const LoadedFrame loaded = std::move(upcoming.front());
     upcoming.pop_front();

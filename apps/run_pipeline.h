@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-namespace dynorb {
+#include "dynorb/io/bench_suite.h"  // kMaxPipelineDepth
 
-inline constexpr int kMaxPipelineDepth = 16;  // RunRequest::pipeline_depth is 1..this
+namespace dynorb {
 
 struct RunRequest {
   std::string dataset;                 // sequence folder

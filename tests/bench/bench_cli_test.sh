@@ -223,6 +223,22 @@ assert streamed["preload"] is False and "preload_seconds" not in streamed, strea
 assert preloaded["preload"] is True and preloaded["preload_seconds"] > 0, preloaded.get("preload_seconds")
 assert preloaded["frames"] == streamed["frames"] == 14
 EOF
+# A frame whose size disagrees with the config: exit 2, one error line naming the image, no
+# results; with --preload the first frame already fails, before the others are decoded (the
+# copy's 4th colour image is corrupt: decoding everything first would report that instead).
+SEQ14="$DIR/seq14"
+cp -r "$OUT/cache/walking_xyz_s3_f14" "$SEQ14"
+corrupt=$(grep -v '^#' "$SEQ14/rgb.txt" | sed -n 4p | awk '{print $2}')
+head -c 100 "$OUT/cache/walking_xyz_s3_f14/$corrupt" >"$SEQ14/$corrupt"
+sed 's/^Camera.width: .*/Camera.width: 320/' "$SEQ14/camera.yaml" >"$DIR/narrow.yaml"
+for flag in --preload --no-pipeline; do
+  err=$("$DYNORB" run --dataset "$SEQ14" --config "$DIR/narrow.yaml" --out "$DIR/narrow$flag" --quiet $flag 2>&1 >/dev/null)
+  code=$?
+  [[ $code == 2 ]] || fail "size mismatch $flag: exit code $code ($err)"
+  grep -qF -- "image is 640x480 but $DIR/narrow.yaml says 320x480" <<<"$err" || fail "size mismatch $flag: '$err'"
+  [[ $(wc -l <<<"$err") == 1 ]] || fail "size mismatch $flag: more than one line: $err"
+  [[ ! -e "$DIR/narrow$flag/stats.json" && ! -e "$DIR/narrow$flag/trajectory.txt" ]] || fail "size mismatch $flag: wrote results"
+done
 /usr/bin/python3 - "$DIR/fastrun/frames.csv" <<'EOF' || fail "fast frames.csv: the first frame is not judged"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

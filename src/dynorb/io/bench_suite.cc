@@ -153,7 +153,9 @@ class Parser {
     if (root["pipeline"]) suite.pipeline = Bool(root["pipeline"], "pipeline");
     if (root["pipeline_depth"]) {
       suite.pipeline_depth = PositiveInt(root["pipeline_depth"], "pipeline_depth", 1);
-      if (suite.pipeline_depth > 16) Fail(root["pipeline_depth"], "'pipeline_depth' must be 1..16");
+      if (suite.pipeline_depth > kMaxPipelineDepth) {
+        Fail(root["pipeline_depth"], "'pipeline_depth' must be 1.." + std::to_string(kMaxPipelineDepth));
+      }
     }
     if (root["preload"]) suite.preload = Bool(root["preload"], "preload");
     const YAML::Node seqs = root["sequences"];

@@ -52,6 +52,10 @@ struct BenchMode {
   int line = 0;
 };
 
+// Deepest pipeline of `dynorb run --pipeline-depth` and of a suite's `pipeline_depth` (the run
+// keeps depth + 1 decoded frames in hand).
+inline constexpr int kMaxPipelineDepth = 16;
+
 struct BenchSuite {
   std::string file;  // path as given
   std::string name;
@@ -60,7 +64,7 @@ struct BenchSuite {
   std::vector<uint64_t> seeds;  // explicit SLAM seeds; empty: 1..repeats
   std::string run_mode = "sequential";
   bool pipeline = true;  // `dynorb run --pipeline` (the default) or --no-pipeline.
-  int pipeline_depth = 4;  // `dynorb run --pipeline-depth` (same default), 1..16.
+  int pipeline_depth = 4;  // `dynorb run --pipeline-depth` (same default), 1..kMaxPipelineDepth.
   bool preload = false;  // `dynorb run --preload`: frames decoded before each run (live-camera timing).
   std::vector<BenchSequence> sequences;
   std::vector<BenchMode> modes;

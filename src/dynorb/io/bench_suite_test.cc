@@ -120,7 +120,7 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
 }
 
 TEST(BenchSuite, ShippedSuitesParse) {
-  for (const char* name : {"quick", "synthetic", "tum", "demo", "dynamic_seeds"}) {
+  for (const char* name : {"quick", "synthetic", "tum", "demo", "dynamic_seeds", "walking_full"}) {
     const BenchSuite suite =
         LoadBenchSuite(std::string(DYNORB_SOURCE_DIR) + "/bench/suites/" + name + ".yaml");
     EXPECT_EQ(suite.name, name);
