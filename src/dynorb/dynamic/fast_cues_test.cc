@@ -189,6 +189,7 @@ TEST(WarpResidual, PureRotationAndDominantMover) {
   EgoMotionOptions loose;
   loose.adaptive_iterations = 0;
   loose.min_gate_px = 2.0;
+  loose.score_min_gate_px = 2.0;
   const EgoMotionResult majority = EstimateEgoMotion(camera, p1, p2, valid, depth, {}, loose);
   ASSERT_TRUE(majority.ok);
   EXPECT_GT(RotationAngleRad(majority.prev_from_cur.rotation * prev_from_cur.rotation.conjugate()) +
@@ -234,6 +235,7 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
   EgoMotionOptions loose;
   loose.adaptive_iterations = 0;
   loose.min_gate_px = 2.0;
+  loose.score_min_gate_px = 2.0;
   loose.try_identity = false;
   const EgoMotionResult wrong = EstimateEgoMotion(camera, p1, p2, valid, depth, {alternative}, loose);
   ASSERT_TRUE(wrong.ok);
@@ -248,6 +250,58 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
   // Limit (measured by review, 2026-11-30): this works while the tracking noise stays below the
   // wrong motion's misfit on the background — here up to ~0.1 px per axis; at 0.15 px the wrong
   // motion wins again. Synthetic LK noise is ~0.06 px; real data will be noisier.
+}
+
+// A walking person filling most of the view (30 of the 48 coverage cells, 120 points) fits a
+// rigid motion only loosely (a body is not rigid: 0.35 px per axis here), the background (18
+// cells, 72 points) to the tracking noise (0.05 px); the prediction is right. Scored at a 0.5 px
+// floor, most of the person's cells count as covered and it wins; at the default 0.3 px floor
+// (3 sigmas of the background's fit) fewer than half of its points fit in most cells, and the
+// prediction is kept (the case of full-length walking_xyz s7, frames 825-830).
+TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
+  const PinholeCamera camera = Camera();
+  const Rigid3d truth(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.007, 0.0, -0.003));  // prev_from_cur
+  const Rigid3d person(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.025, 0.0, 0.02));
+  constexpr int kMoverX = 240;  // coverage cells of 80 px: columns 3..7 are the person's
+  cv::Mat depth(camera.height, camera.width, CV_32F);
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = x < kMoverX ? 4.f : 1.5f;
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> within(12.f, 68.f);  // inside an 80 px cell, away from edges
+  std::normal_distribution<float> bg_noise(0.f, 0.05f), person_noise(0.f, 0.35f);
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid;
+  for (int cy = 0; cy < 6; ++cy) {
+    for (int cx = 0; cx < 8; ++cx) {
+      for (int k = 0; k < 4; ++k) {
+        const cv::Point2f cur(80.f * cx + within(rng), 80.f * cy + within(rng));
+        const bool on_person = cur.x >= kMoverX;
+        cv::Point2f prev = WarpToPrevious(camera, on_person ? person : truth, cur, on_person ? 1.5 : 4.0);
+        prev += on_person ? cv::Point2f(person_noise(rng), person_noise(rng))
+                          : cv::Point2f(bg_noise(rng), bg_noise(rng));
+        p1.push_back(prev);
+        p2.push_back(cur);
+        valid.push_back(1);
+      }
+    }
+  }
+  auto error = [&truth](const EgoMotionResult& r) {
+    return RotationAngleRad(r.prev_from_cur.rotation * truth.rotation.conjugate()) +
+           (r.prev_from_cur.translation - truth.translation).norm();
+  };
+  const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
+  ASSERT_TRUE(ego.ok);
+  EXPECT_EQ(ego.seed_index, 0);
+  EXPECT_LT(error(ego), 2e-3);
+  EXPECT_LT(ego.gate_px, 0.5);
+  // The floor of before: the person's motion wins.
+  EgoMotionOptions old_floor;
+  old_floor.score_min_gate_px = 0.5;
+  const EgoMotionResult captured = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, old_floor);
+  ASSERT_TRUE(captured.ok);
+  EXPECT_EQ(captured.seed_index, -1);
+  EXPECT_GT(error(captured), 0.02);
 }
 
 // Forward tracks only, then the backward check on a subset: a track moved off its true position

@@ -219,8 +219,9 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   auto score_all = [&]() {
     double min_sigma = std::numeric_limits<double>::infinity();
     for (const Hypothesis& h : hypotheses) min_sigma = std::min(min_sigma, h.sigma);
-    score_gate = std::isfinite(min_sigma) ? std::clamp(options.gate_sigmas * min_sigma, options.min_gate_px, wide_gate)
-                                          : wide_gate;
+    score_gate = std::isfinite(min_sigma)
+                     ? std::clamp(options.gate_sigmas * min_sigma, options.score_min_gate_px, wide_gate)
+                     : wide_gate;
     best_coverage = 0.0;
     best_inliers = 0;
     for (Hypothesis& h : hypotheses) {
