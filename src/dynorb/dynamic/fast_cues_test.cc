@@ -52,6 +52,12 @@ TwoViews MakeStatic(const PinholeCamera& camera, const Rigid3d& cur_from_prev, i
   return views;
 }
 
+// Rotation angle (rad) plus translation error (m) of an ego-motion estimate against the truth.
+double MotionError(const EgoMotionResult& r, const Rigid3d& truth) {
+  return RotationAngleRad(r.prev_from_cur.rotation * truth.rotation.conjugate()) +
+         (r.prev_from_cur.translation - truth.translation).norm();
+}
+
 const Rigid3d kMotion(Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.2, 1.0, 0.1).normalized())),
                       Eigen::Vector3d(0.04, -0.01, 0.02));
 
@@ -227,10 +233,7 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
       valid.push_back(1);
     }
   }
-  auto error = [&truth](const EgoMotionResult& r) {
-    return RotationAngleRad(r.prev_from_cur.rotation * truth.rotation.conjugate()) +
-           (r.prev_from_cur.translation - truth.translation).norm();
-  };
+  auto error = [&truth](const EgoMotionResult& r) { return MotionError(r, truth); };
   // From the wrong motion as the only seed, with the loose gates only: it stays wrong.
   EgoMotionOptions loose;
   loose.adaptive_iterations = 0;
@@ -286,10 +289,7 @@ TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
       }
     }
   }
-  auto error = [&truth](const EgoMotionResult& r) {
-    return RotationAngleRad(r.prev_from_cur.rotation * truth.rotation.conjugate()) +
-           (r.prev_from_cur.translation - truth.translation).norm();
-  };
+  auto error = [&truth](const EgoMotionResult& r) { return MotionError(r, truth); };
   const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
   EXPECT_EQ(ego.seed_index, 0);
