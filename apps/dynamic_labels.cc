@@ -100,37 +100,68 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
   return count;
 }
 
-void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
-                             const cv::Mat& mask, const cv::Mat& ignore) {
-  if (mask.empty()) return;
-  long long tp = 0, fp = 0, fn = 0;
-  cv::Mat near;  // Pixels within kBoundaryPx of a counted object pixel (built on the first false positive).
-  auto near_object = [&](int x, int y) {
-    if (near.empty()) {
-      cv::Mat objects = mask != 0;
-      if (!ignore.empty()) objects.setTo(0, ignore != 0);
-      cv::dilate(objects, near,
-                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBoundaryPx + 1, 2 * kBoundaryPx + 1)));
-    }
-    return near.at<uint8_t>(y, x) != 0;
+KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
+                                   const cv::Mat& ignore, double level_scale_factor) {
+  KeypointTruth truth;
+  if (mask.empty()) return truth;
+  truth.has_mask = true;
+  const size_t n = keypoints.size();
+  truth.ignored.assign(n, 0);
+  truth.on_object.assign(n, 0);
+  truth.support.assign(n, 0);
+  truth.near.assign(n, 0);
+  constexpr int r = KeypointLabelStats::kBoundaryPx;
+  const cv::Mat element = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  auto object = [&](int x, int y) {
+    return mask.at<uint8_t>(y, x) != 0 && (ignore.empty() || ignore.at<uint8_t>(y, x) == 0);
   };
-  for (size_t i = 0; i < keypoints.size(); ++i) {
+  for (size_t i = 0; i < n; ++i) {
     const int x = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.x)), 0, mask.cols - 1);
     const int y = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.y)), 0, mask.rows - 1);
     if (!ignore.empty() && ignore.at<uint8_t>(y, x) != 0) {
+      truth.ignored[i] = 1;
+      continue;
+    }
+    truth.on_object[i] = mask.at<uint8_t>(y, x) != 0;
+    truth.support[i] = truth.on_object[i] || CircleTouches(mask, ignore, keypoints[i], level_scale_factor);
+    // An object pixel under the elliptic neighbourhood (what cv::dilate with this element sees).
+    for (int dy = -r; dy <= r && !truth.near[i]; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        const int u = x + dx, v = y + dy;
+        if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows || !element.at<uint8_t>(dy + r, dx + r)) continue;
+        if (object(u, v)) {
+          truth.near[i] = 1;
+          break;
+        }
+      }
+    }
+  }
+  return truth;
+}
+
+void KeypointLabelStats::Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep,
+                             const cv::Mat& mask, const cv::Mat& ignore) {
+  Add(ComputeKeypointTruth(keypoints, mask, ignore, level_scale_factor_), keep);
+}
+
+void KeypointLabelStats::Add(const KeypointTruth& truth, const std::vector<bool>& keep) {
+  if (!truth.has_mask) return;
+  long long tp = 0, fp = 0, fn = 0;
+  for (size_t i = 0; i < truth.on_object.size(); ++i) {
+    if (truth.ignored[i]) {
       ++ignored_;
       continue;
     }
-    const bool truth = mask.at<uint8_t>(y, x) != 0;
+    const bool on = truth.on_object[i] != 0;
     const bool predicted = !keep.empty() && !keep[i];
-    if (predicted && truth) ++tp;
-    if (predicted && !truth) {
+    if (predicted && on) ++tp;
+    if (predicted && !on) {
       ++fp;
-      fp_near_ += near_object(x, y) ? 1 : 0;
+      fp_near_ += truth.near[i];
     }
-    if (!predicted && truth) ++fn;
-    if (!predicted && !truth) ++tn_;
-    const bool support = truth || CircleTouches(mask, ignore, keypoints[i], level_scale_factor_);
+    if (!predicted && on) ++fn;
+    if (!predicted && !on) ++tn_;
+    const bool support = truth.support[i] != 0;
     support_tp_ += predicted && support ? 1 : 0;
     support_fp_ += predicted && !support ? 1 : 0;
     support_fn_ += !predicted && support ? 1 : 0;

@@ -35,6 +35,19 @@ class MaskGroundTruth {
   std::vector<std::pair<double, std::vector<int>>> still_ids_;  // Per stamp (sorted): still object ids.
 };
 
+// The truth about one frame's keypoints against one mask, computed once and then tallied by every
+// KeypointLabelStats that counts them (the whole filter, each of its cues).
+struct KeypointTruth {
+  bool has_mask = false;
+  std::vector<uint8_t> ignored;    // centre pixel on `ignore`: not counted
+  std::vector<uint8_t> on_object;  // centre pixel on a (not ignored) object
+  std::vector<uint8_t> support;    // on_object, or its FAST circle at its level touches one
+  std::vector<uint8_t> near;       // within KeypointLabelStats::kBoundaryPx of one (7x7 ellipse)
+};
+// mask empty: has_mask = false (nothing is counted). ignore (optional, CV_8U): see Add below.
+KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
+                                   const cv::Mat& ignore, double level_scale_factor);
+
 // Counts over keypoints: positive = labelled dynamic (removed); truth = on a moving-object pixel.
 // A second, scale-aware truth ("support") also counts a keypoint as on the object when its FAST
 // circle at its own pyramid level (radius 3 px there, 3·scale^octave px in the image) touches the
@@ -48,12 +61,15 @@ class KeypointLabelStats {
   // ignore (optional, CV_8U): keypoints on its non-zero pixels are not counted at all.
   void Add(const std::vector<cv::KeyPoint>& keypoints, const std::vector<bool>& keep, const cv::Mat& mask,
            const cv::Mat& ignore = cv::Mat());
+  // The same with the truth computed beforehand (ComputeKeypointTruth with this level scale).
+  void Add(const KeypointTruth& truth, const std::vector<bool>& keep);
   nlohmann::json ToJson() const;
 
- private:
   // A removed keypoint off the object but within this many px of it: its FAST circle (radius 3)
   // touches the object, so its corner may be the object's outline (counted separately).
   static constexpr int kBoundaryPx = 3;
+
+ private:
   double level_scale_factor_;
   long long tp_ = 0, fp_ = 0, fn_ = 0, tn_ = 0, ignored_ = 0, fp_near_ = 0;
   long long support_tp_ = 0, support_fp_ = 0, support_fn_ = 0;

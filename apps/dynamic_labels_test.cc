@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
 namespace dynorb {
 namespace {
 
@@ -39,6 +43,40 @@ TEST(KeypointLabelStats, PixelTruthAndScaleAwareSupportTruth) {
   EXPECT_EQ(s["false_negative"], 2);  // kept outline keypoint + kept keypoint on the object
   EXPECT_DOUBLE_EQ(s["precision"].get<double>(), 0.75);
   EXPECT_DOUBLE_EQ(s["recall"].get<double>(), 0.6);
+}
+
+// The per-frame truth computed once equals the definitions it replaces: "within 3 px" = the object
+// mask dilated with the 7x7 ellipse (still objects removed first), on random blobs and keypoints.
+TEST(KeypointTruth, NearIsTheEllipseDilationOfTheCountedObjects) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.f, 99.f);
+  std::uniform_int_distribution<int> octave(0, 3);
+  for (int trial = 0; trial < 20; ++trial) {
+    cv::Mat mask = cv::Mat::zeros(100, 100, CV_8U), still = cv::Mat::zeros(100, 100, CV_8U);
+    for (int b = 0; b < 4; ++b) {
+      const cv::Point c(static_cast<int>(u(rng)), static_cast<int>(u(rng)));
+      cv::circle(mask, c, 3 + b * 3, cv::Scalar(b + 1), cv::FILLED);
+    }
+    still.setTo(255, mask == 2);
+    std::vector<cv::KeyPoint> kps;
+    for (int k = 0; k < 300; ++k) kps.push_back(At(u(rng), u(rng), octave(rng)));
+    for (const cv::Mat& ignore : {cv::Mat(), still}) {
+      cv::Mat objects = mask != 0, near;
+      if (!ignore.empty()) objects.setTo(0, ignore != 0);
+      cv::dilate(objects, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
+      const KeypointTruth t = ComputeKeypointTruth(kps, mask, ignore, 1.2);
+      ASSERT_TRUE(t.has_mask);
+      for (size_t i = 0; i < kps.size(); ++i) {
+        const int x = static_cast<int>(std::lround(kps[i].pt.x)), y = static_cast<int>(std::lround(kps[i].pt.y));
+        const bool ignored = !ignore.empty() && ignore.at<uint8_t>(y, x) != 0;
+        ASSERT_EQ(t.ignored[i] != 0, ignored) << i;
+        if (ignored) continue;
+        EXPECT_EQ(t.on_object[i] != 0, mask.at<uint8_t>(y, x) != 0) << i;
+        EXPECT_EQ(t.near[i] != 0, near.at<uint8_t>(y, x) != 0) << trial << " " << i;
+        EXPECT_TRUE(!t.on_object[i] || t.support[i]) << i;
+      }
+    }
+  }
 }
 
 TEST(CountOnObjects, PixelAndSupportCountsIgnoringStillObjects) {

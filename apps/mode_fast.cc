@@ -24,6 +24,9 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
+      .Add("lk_base_first_px", &o.lk_base_first_px,
+           "with a prediction: LK on the base image first, points ending farther than this from the "
+           "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
       .Add("bf_best_fraction", &o.bf_best_fraction,
            "descriptors: fraction of best matches used for F")
       .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")

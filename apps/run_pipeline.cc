@@ -261,12 +261,14 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       }
     }
     if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
-      label_stats.Add(record.detected, record.keep, loaded.mask);
-      moving_now_stats.Add(record.detected, record.keep, loaded.mask, loaded.still);
+      const KeypointTruth now = ComputeKeypointTruth(record.detected, loaded.mask, loaded.still, level_scale);
+      label_stats.Add(loaded.still.empty() ? now : ComputeKeypointTruth(record.detected, loaded.mask, cv::Mat(), level_scale),
+                      record.keep);
+      moving_now_stats.Add(now, record.keep);
       for (const auto& [cue, moving] : record.cue_flags) {
         std::vector<bool> keep(moving.size());
         for (size_t k = 0; k < moving.size(); ++k) keep[k] = !moving[k];
-        cue_stats.try_emplace(cue, level_scale).first->second.Add(record.detected, keep, loaded.mask, loaded.still);
+        cue_stats.try_emplace(cue, level_scale).first->second.Add(now, keep);
       }
     }
     if (save_overlay) {

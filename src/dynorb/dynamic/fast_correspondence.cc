@@ -15,6 +15,56 @@ std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& option
   return pyramid;
 }
 
+namespace {
+
+// LK on the base image only from the guesses in *previous (cheap: a good guess converges there);
+// the points that end farther than base_first_px from their guess, fail, or end with a large
+// residual are tracked again through the whole pyramid from their guess.
+void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
+                    const std::vector<cv::Point2f>& current, const LkOptions& options,
+                    std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
+  const cv::Size window(options.window_px, options.window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  const std::vector<cv::Point2f> guess = *previous;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, *previous, *status, error, window, 0, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  // A point stuck near its guess (no gradient towards the true position) ends there with a
+  // residual far above what converged points have: the gate is 3x the median residual.
+  std::vector<float> residuals;
+  for (size_t i = 0; i < current.size(); ++i) {
+    if ((*status)[i]) residuals.push_back(error[i]);
+  }
+  float max_residual = 0.f;
+  if (!residuals.empty()) {
+    std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+    max_residual = 3.f * residuals[residuals.size() / 2];
+  }
+  const double max2 = options.base_first_px * options.base_first_px;
+  std::vector<int> again;
+  for (size_t i = 0; i < current.size(); ++i) {
+    const cv::Point2f d = (*previous)[i] - guess[i];
+    if (!(*status)[i] || d.x * d.x + d.y * d.y > max2 || error[i] > max_residual) {
+      again.push_back(static_cast<int>(i));
+    }
+  }
+  if (again.empty() || options.levels == 0) return;
+  std::vector<cv::Point2f> from, to;
+  for (int i : again) {
+    from.push_back(current[i]);
+    to.push_back(guess[i]);
+  }
+  std::vector<uint8_t> again_status;
+  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, from, to, again_status, error, window, options.levels,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (size_t k = 0; k < again.size(); ++k) {
+    (*previous)[again[k]] = to[k];
+    (*status)[again[k]] = again_status[k];
+  }
+}
+
+}  // namespace
+
 Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
                               const std::vector<cv::Point2f>& current, const std::vector<cv::Point2f>& initial_previous,
                               const LkOptions& options) {
@@ -28,8 +78,12 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
   std::vector<uint8_t> status, back_status;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, c.previous, status, error, window,
-                           options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  if (options.base_first_px > 0.0 && initial_previous.size() == n) {
+    TrackBaseFirst(previous_pyramid, current_pyramid, current, options, &c.previous, &status);
+  } else {
+    cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, c.previous, status, error, window,
+                             options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  }
   std::vector<cv::Point2f> back = current;
   if (options.backward_check) {
     cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status, error, window,

@@ -31,6 +31,10 @@ struct LkOptions {
   int iterations = 20;
   double fb_max_px = 1.0;
   bool backward_check = true;  // false: forward tracks only (CheckBackward later, on a subset)
+  // > 0 and a guess given: LK first on the base image only, from the guess; a point whose result
+  // lies within base_first_px of its guess keeps it, the others are tracked again through the
+  // whole pyramid from the guess. 0: the whole pyramid for every point.
+  double base_first_px = 0.0;
 };
 
 // The LK image pyramid (with derivatives) of one frame; built once per frame and reused as the

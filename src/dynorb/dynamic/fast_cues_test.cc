@@ -356,6 +356,74 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
   }
 }
 
+// Base image first: from a good guess the base-level pass gives the whole pyramid's answer; a
+// guess far off (a mover the prediction does not know: the right third of the points here) is
+// tracked again through the pyramid, also where the base level got stuck near the guess.
+TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
+  cv::Mat noise(240, 320, CV_8U);
+  cv::RNG rng(20261203);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat texture;
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
+  cv::resize(texture, texture, cv::Size(640, 480));
+  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
+  cv::Mat previous = texture.clone(), current;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);  // current = previous moved (3, 1)
+  cv::warpAffine(texture, current, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  // Decoys: at some bad guesses the previous image holds a faint copy of the point's patch, so the
+  // base level stops at the guess (same shape) with a large residual (half the contrast).
+  const cv::Point2f bad_offset(12.f, -9.f);
+  for (int y = 100; y < 380; y += 60) {
+    const cv::Rect patch(420 - 10, y - 10, 21, 21);
+    const cv::Rect decoy = patch + cv::Point(-3 + 12, -1 - 9);
+    cv::Mat faint;
+    current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
+    faint.copyTo(previous(decoy));
+  }
+  LkOptions pyramid_only;
+  pyramid_only.backward_check = false;
+  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, pyramid_only),
+                             cur_pyr = BuildLkPyramid(current, pyramid_only);
+  std::vector<cv::Point2f> points, guess;
+  std::vector<bool> bad;
+  for (int y = 100; y < 380; y += 20) {
+    for (int x = 100; x < 540; x += 20) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      bad.push_back(x >= 400);
+      guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
+                      (bad.back() ? cv::Point2f(12.f, -9.f) : cv::Point2f(0.4f, -0.3f)));
+    }
+  }
+  LkOptions base_first = pyramid_only;
+  base_first.base_first_px = 1.0;
+  LkOptions base_only = pyramid_only;
+  base_only.levels = 0;
+  const Correspondences full = TrackWithFlow(prev_pyr, cur_pyr, points, guess, pyramid_only);
+  const Correspondences fast = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_first);
+  const Correspondences base = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_only);
+  ASSERT_EQ(fast.num_valid, full.num_valid);
+  int num_bad = 0, base_wrong = 0, base_stuck = 0, right = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(fast.valid[i], full.valid[i]) << i;
+    if (!full.valid[i]) continue;
+    // The whole pyramid's answer, good guess or bad.
+    EXPECT_NEAR(fast.previous[i].x, full.previous[i].x, 0.02f) << i;
+    EXPECT_NEAR(fast.previous[i].y, full.previous[i].y, 0.02f) << i;
+    const cv::Point2f truth = points[i] - cv::Point2f(3.f, 1.f);
+    const cv::Point2f e = full.previous[i] - truth, b = base.previous[i] - full.previous[i];
+    const cv::Point2f g = base.previous[i] - guess[i];
+    right += std::hypot(e.x, e.y) < 0.1f;
+    num_bad += bad[i];
+    base_wrong += bad[i] && (!base.valid[i] || std::hypot(b.x, b.y) > 0.1f);
+    base_stuck += bad[i] && base.valid[i] && std::hypot(g.x, g.y) <= 1.f && std::hypot(b.x, b.y) > 0.5f;
+  }
+  EXPECT_GT(right, static_cast<int>(points.size()) * 9 / 10);  // the pyramid finds the shift
+  // The base level alone does not bridge many of the bad guesses: the retracking finds them.
+  EXPECT_GT(base_wrong, num_bad / 4);
+  // At the decoys it stops within base_first_px of the guess: only its residual sends it back.
+  EXPECT_GE(base_stuck, 1);
+}
+
 TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {
   std::vector<cv::KeyPoint> keypoints;
   // Cell (0, 0) of the 16x12 grid on 640x480 (40x40 px): three keypoints; three other cells: one each.
