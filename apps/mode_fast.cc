@@ -24,6 +24,9 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
+      .Add("lk_seed_own_motion", &o.lk_seed_own_motion,
+           "seed LK with the filter's own last ego-motion when it has one (one frame old; the tracker's "
+           "prediction is older when pipelined)")
       .Add("lk_base_first_px", &o.lk_base_first_px,
            "with a prediction: LK on the base image first, points ending farther than this from the "
            "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
@@ -51,6 +54,9 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("use_residual", &o.use_residual, "rigid-warp residual cue (ego-motion + depth)")
       .Add("refine_ego_motion", &o.refine_ego_motion,
            "refine the motion-model prediction on tracked points")
+      .Add("ego_rigidity_ratio", &o.ego_rigidity_ratio,
+           "ego-motion: a prediction also wins when every hypothesis covering more of the image fits this "
+           "many times more loosely (a walking person fits a rigid motion loosely; 0: off)")
       .Add("residual_px", &o.residual_px,
            "warp residual above this (+ residual_rel * flow): moving")
       .Add("residual_rel", &o.residual_rel, "fraction of the flow length added to residual_px")

@@ -295,13 +295,61 @@ TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
   EXPECT_EQ(ego.seed_index, 0);
   EXPECT_LT(error(ego), 2e-3);
   EXPECT_LT(ego.gate_px, 0.5);
-  // The floor of before: the person's motion wins.
+  // The floor of before (and no rigidity rule): the person's motion wins.
   EgoMotionOptions old_floor;
   old_floor.score_min_gate_px = 0.5;
+  old_floor.seed_rigidity_ratio = 0.0;
   const EgoMotionResult captured = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, old_floor);
   ASSERT_TRUE(captured.ok);
   EXPECT_EQ(captured.seed_index, -1);
   EXPECT_GT(error(captured), 0.02);
+}
+
+// The geometry above with a person fitting a rigid motion to 0.2 px per axis and the background to
+// 0.1 px (as on full-length walking_xyz s7, frames 825-829: 0.22-0.26 against 0.13 px): at the
+// common gate (3 x the tightest spread, 0.5 px) both cover their cells and the person, larger,
+// wins on coverage alone; the prediction fits about twice as tightly and wins by rigidity.
+TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
+  const PinholeCamera camera = Camera();
+  const Rigid3d truth(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.007, 0.0, -0.003));  // prev_from_cur
+  const Rigid3d person(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.025, 0.0, 0.02));
+  constexpr int kMoverX = 240;  // coverage cells of 80 px: columns 3..7 are the person's
+  cv::Mat depth(camera.height, camera.width, CV_32F);
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = x < kMoverX ? 4.f : 1.5f;
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> within(12.f, 68.f);
+  std::normal_distribution<float> bg_noise(0.f, 0.1f), person_noise(0.f, 0.2f);
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid;
+  for (int cy = 0; cy < 6; ++cy) {
+    for (int cx = 0; cx < 8; ++cx) {
+      for (int k = 0; k < 4; ++k) {
+        const cv::Point2f cur(80.f * cx + within(rng), 80.f * cy + within(rng));
+        const bool on_person = cur.x >= kMoverX;
+        cv::Point2f prev = WarpToPrevious(camera, on_person ? person : truth, cur, on_person ? 1.5 : 4.0);
+        prev += on_person ? cv::Point2f(person_noise(rng), person_noise(rng))
+                          : cv::Point2f(bg_noise(rng), bg_noise(rng));
+        p1.push_back(prev);
+        p2.push_back(cur);
+        valid.push_back(1);
+      }
+    }
+  }
+  const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
+  ASSERT_TRUE(ego.ok);
+  EXPECT_EQ(ego.seed_index, 0);
+  // The flat background at 4 m with 0.1 px noise trades a little translation for rotation; the
+  // person's motion is 0.04 away.
+  EXPECT_LT(MotionError(ego, truth), 5e-3);
+  // Coverage alone: the larger person wins.
+  EgoMotionOptions coverage_only;
+  coverage_only.seed_rigidity_ratio = 0.0;
+  const EgoMotionResult captured = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, coverage_only);
+  ASSERT_TRUE(captured.ok);
+  EXPECT_EQ(captured.seed_index, -1);
+  EXPECT_GT(MotionError(captured, truth), 0.02);
 }
 
 // Forward tracks only, then the backward check on a subset: a track moved off its true position

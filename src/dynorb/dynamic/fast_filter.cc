@@ -64,19 +64,22 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   std::vector<Rigid3d> motion_seeds;
   if (input.predicted_cam_from_previous_cam) motion_seeds.push_back(input.predicted_cam_from_previous_cam->Inverse());
   if (own_prev_from_cur_) motion_seeds.push_back(*own_prev_from_cur_);
-  std::optional<Rigid3d> predicted_prev_from_cur;
-  if (!motion_seeds.empty()) predicted_prev_from_cur = motion_seeds.front();
+  // LK's guess: the first seed, or the filter's own last ego-motion (one frame old; the tracker's
+  // prediction is up to the pipeline depth older).
+  std::optional<Rigid3d> lk_prev_from_cur;
+  if (!motion_seeds.empty()) lk_prev_from_cur = motion_seeds.front();
+  if (options_.lk_seed_own_motion && own_prev_from_cur_) lk_prev_from_cur = own_prev_from_cur_;
   if (options_.method() == CorrespondenceMethod::kOpticalFlow) {
     pyramid = BuildLkPyramid(*input.gray, lk);
     if (has_previous_) {
       // At most lk_max_points keypoints, spread over the image; LK seeded with the prediction.
       const std::vector<int> subset = SpreadSubset(keypoints, input.gray->size(), options_.lk_max_points);
       std::vector<cv::Point2f> initial;
-      if (options_.lk_predict_initial && predicted_prev_from_cur) {
+      if (options_.lk_predict_initial && lk_prev_from_cur) {
         initial.reserve(subset.size());
         for (int i : subset) {
           const DepthSample z = SampleDepth(depth, p2[i], max_depth);
-          cv::Point2f guess = WarpToPrevious(camera_, *predicted_prev_from_cur, p2[i], z.center > 0.f ? z.center : 3.0);
+          cv::Point2f guess = WarpToPrevious(camera_, *lk_prev_from_cur, p2[i], z.center > 0.f ? z.center : 3.0);
           if (!camera_.InImage(Eigen::Vector2d(guess.x, guess.y))) guess = p2[i];
           initial.push_back(guess);
         }
@@ -106,6 +109,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
     watch.Restart();
     EgoMotionOptions ego_options;
     ego_options.refine = options_.refine_ego_motion;
+    ego_options.seed_rigidity_ratio = options_.ego_rigidity_ratio;
     ego_options.max_depth_m = max_depth;
     const EgoMotionResult ego =
         EstimateEgoMotion(camera_, p1, p2, valid, depth, motion_seeds, ego_options);

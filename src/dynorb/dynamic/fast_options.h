@@ -21,6 +21,8 @@ struct FastOptions {
   int lk_max_points = 400;               // track at most this many keypoints, spread over the
                                          // image (0: all); the others are judged by regions
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
+  bool lk_seed_own_motion = false;       // ... with the filter's own last ego-motion when it has one
+                                         // (one frame old; the tracker's is older when pipelined)
   double lk_base_first_px = 0.0;         // > 0 (with a prediction): LK on the base image first;
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
@@ -46,6 +48,8 @@ struct FastOptions {
   // --- Beyond the report: rigid-warp residual against the (refined) camera motion.
   bool use_residual = true;           // ego-motion residual cue on/off
   bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
+  double ego_rigidity_ratio = 1.5;    // a prediction also wins when every hypothesis covering more
+                                      // fits this many times more loosely (0: off)
   double residual_px = 1.2;           // reprojection residual above this: moving
   double residual_rel = 0.05;         // ... plus this fraction of the flow length
   double residual_mismatch_px = 40.0;  // residual above this: a wrong correspondence, no evidence

@@ -268,10 +268,18 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   // The first seed with nearly the best support wins; otherwise the hypothesis covering most of
   // the image.
   const Hypothesis* chosen = nullptr;
+  // Does every hypothesis covering more than `seed` fit at least seed_rigidity_ratio times more loosely?
+  auto most_rigid = [&](const Hypothesis& seed) {
+    if (options.seed_rigidity_ratio <= 0.0 || !(seed.sigma > 0.0)) return false;
+    return std::all_of(hypotheses.begin(), hypotheses.end(), [&](const Hypothesis& h) {
+      return h.coverage <= seed.coverage || h.sigma >= options.seed_rigidity_ratio * seed.sigma;
+    });
+  };
   for (const Hypothesis& h : hypotheses) {
     if (h.seed >= 0 && h.seed != identity_seed && h.coverage >= options.min_seed_coverage &&
-        h.coverage >= options.seed_coverage_ratio * best_coverage &&
-        h.inliers >= options.seed_coverage_ratio * best_inliers) {
+        ((h.coverage >= options.seed_coverage_ratio * best_coverage &&
+          h.inliers >= options.seed_coverage_ratio * best_inliers) ||
+         most_rigid(h))) {
       chosen = &h;
       break;
     }

@@ -23,7 +23,11 @@
 // (they cost most of the time). The first seed (not the camera at rest) whose coverage is at least min_seed_coverage
 // and whose coverage and inlier count are at least seed_coverage_ratio × the best ones wins — on
 // a near-tie the prediction decides, so a mover about as large as the visible background cannot
-// capture the estimate; otherwise (start, lost, a prediction that follows a mover) the
+// capture the estimate. A seed with min_seed_coverage also wins when it fits more rigidly than
+// every hypothesis that covers more of the image (their spread sigma >= seed_rigidity_ratio × its
+// own): a walking person filling more than half of the view fits a rigid motion about twice as
+// loosely as the static background does (full-length walking_xyz s7, frames 825-829: 0.22-0.26
+// against 0.13 px), whatever the gate. Otherwise (start, lost, a prediction that follows a mover) the
 // hypothesis covering most of the image wins (the static background is spread over the image),
 // more inliers breaking a tie.
 // Pure function; thread-safe.
@@ -55,6 +59,8 @@ struct EgoMotionOptions {
   bool refine = true;           // false: return the first seed as is (when given)
   double min_seed_coverage = 0.25;  // seed accepted if its inliers cover this fraction of cells
   double seed_coverage_ratio = 0.9;  // ... and coverage and inliers >= this fraction of the best
+  double seed_rigidity_ratio = 1.5;  // ... or every hypothesis covering more fits this many times
+                                     // more loosely (sigma; 0: off)
   int grid_cols = 8, grid_rows = 6;  // coverage grid
   double skip_search_coverage = 0.6;  // a prediction covering this much: no identity/RANSAC search
   double duplicate_seed_m = 0.002;    // a prediction this close to a refined one is not refined again
