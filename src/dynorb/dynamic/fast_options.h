@@ -21,9 +21,9 @@ struct FastOptions {
   int lk_max_points = 400;               // track at most this many keypoints, spread over the
                                          // image (0: all); the others are judged by regions
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
-  bool lk_seed_own_motion = false;       // ... with the filter's own last ego-motion when it has one
+  bool lk_seed_own_motion = true;        // ... with the filter's own last ego-motion when it has one
                                          // (one frame old; the tracker's is older when pipelined)
-  double lk_base_first_px = 0.0;         // > 0 (with a prediction): LK on the base image first;
+  double lk_base_first_px = 1.0;         // > 0 (with a prediction): LK on the base image first;
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
