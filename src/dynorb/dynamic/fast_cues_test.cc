@@ -255,6 +255,46 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
   // motion wins again. Synthetic LK noise is ~0.06 px; real data will be noisier.
 }
 
+// The true camera motion (prev_from_cur) and a person's, for the dominant-mover scenes below.
+const Rigid3d kDominantTruth(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.007, 0.0, -0.003));
+const Rigid3d kDominantPerson(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.025, 0.0, 0.02));
+
+// Background at 4 m over coverage columns 0..2, a person at 1.5 m over columns 3..7 (30 of the 48
+// cells of 80 px), 4 tracked points per cell, each side with its own LK noise (px per axis).
+struct DominantMoverScene {
+  cv::Mat depth;
+  std::vector<cv::Point2f> p1, p2;
+  std::vector<uint8_t> valid;
+};
+DominantMoverScene MakeDominantMoverScene(const PinholeCamera& camera, float background_noise_px,
+                                          float person_noise_px) {
+  constexpr int kMoverX = 240;
+  DominantMoverScene scene;
+  scene.depth.create(camera.height, camera.width, CV_32F);
+  for (int y = 0; y < scene.depth.rows; ++y) {
+    for (int x = 0; x < scene.depth.cols; ++x) scene.depth.at<float>(y, x) = x < kMoverX ? 4.f : 1.5f;
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> within(12.f, 68.f);  // inside an 80 px cell, away from edges
+  std::normal_distribution<float> bg_noise(0.f, background_noise_px), person_noise(0.f, person_noise_px);
+  for (int cy = 0; cy < 6; ++cy) {
+    for (int cx = 0; cx < 8; ++cx) {
+      for (int k = 0; k < 4; ++k) {
+        const cv::Point2f cur(80.f * cx + within(rng), 80.f * cy + within(rng));
+        const bool on_person = cur.x >= kMoverX;
+        cv::Point2f prev =
+            WarpToPrevious(camera, on_person ? kDominantPerson : kDominantTruth, cur, on_person ? 1.5 : 4.0);
+        prev += on_person ? cv::Point2f(person_noise(rng), person_noise(rng))
+                          : cv::Point2f(bg_noise(rng), bg_noise(rng));
+        scene.p1.push_back(prev);
+        scene.p2.push_back(cur);
+        scene.valid.push_back(1);
+      }
+    }
+  }
+  return scene;
+}
+
 // A walking person filling most of the view (30 of the 48 coverage cells, 120 points) fits a
 // rigid motion only loosely (a body is not rigid: 0.35 px per axis here), the background (18
 // cells, 72 points) to the tracking noise (0.05 px); the prediction is right. Scored at a 0.5 px
@@ -263,32 +303,11 @@ TEST(EgoMotion, TightGateRejectsAMotionThatExplainsBackgroundAndMoverTogether) {
 // prediction is kept (the case of full-length walking_xyz s7, frames 825-830).
 TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
   const PinholeCamera camera = Camera();
-  const Rigid3d truth(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.007, 0.0, -0.003));  // prev_from_cur
-  const Rigid3d person(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.025, 0.0, 0.02));
-  constexpr int kMoverX = 240;  // coverage cells of 80 px: columns 3..7 are the person's
-  cv::Mat depth(camera.height, camera.width, CV_32F);
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = x < kMoverX ? 4.f : 1.5f;
-  }
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> within(12.f, 68.f);  // inside an 80 px cell, away from edges
-  std::normal_distribution<float> bg_noise(0.f, 0.05f), person_noise(0.f, 0.35f);
-  std::vector<cv::Point2f> p1, p2;
-  std::vector<uint8_t> valid;
-  for (int cy = 0; cy < 6; ++cy) {
-    for (int cx = 0; cx < 8; ++cx) {
-      for (int k = 0; k < 4; ++k) {
-        const cv::Point2f cur(80.f * cx + within(rng), 80.f * cy + within(rng));
-        const bool on_person = cur.x >= kMoverX;
-        cv::Point2f prev = WarpToPrevious(camera, on_person ? person : truth, cur, on_person ? 1.5 : 4.0);
-        prev += on_person ? cv::Point2f(person_noise(rng), person_noise(rng))
-                          : cv::Point2f(bg_noise(rng), bg_noise(rng));
-        p1.push_back(prev);
-        p2.push_back(cur);
-        valid.push_back(1);
-      }
-    }
-  }
+  const Rigid3d& truth = kDominantTruth;
+  const DominantMoverScene scene = MakeDominantMoverScene(camera, 0.05f, 0.35f);
+  const std::vector<cv::Point2f>&p1 = scene.p1, &p2 = scene.p2;
+  const std::vector<uint8_t>& valid = scene.valid;
+  const cv::Mat& depth = scene.depth;
   auto error = [&truth](const EgoMotionResult& r) { return MotionError(r, truth); };
   const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
@@ -311,32 +330,11 @@ TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
 // wins on coverage alone; the prediction fits about twice as tightly and wins by rigidity.
 TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
   const PinholeCamera camera = Camera();
-  const Rigid3d truth(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.007, 0.0, -0.003));  // prev_from_cur
-  const Rigid3d person(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.025, 0.0, 0.02));
-  constexpr int kMoverX = 240;  // coverage cells of 80 px: columns 3..7 are the person's
-  cv::Mat depth(camera.height, camera.width, CV_32F);
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = x < kMoverX ? 4.f : 1.5f;
-  }
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> within(12.f, 68.f);
-  std::normal_distribution<float> bg_noise(0.f, 0.1f), person_noise(0.f, 0.2f);
-  std::vector<cv::Point2f> p1, p2;
-  std::vector<uint8_t> valid;
-  for (int cy = 0; cy < 6; ++cy) {
-    for (int cx = 0; cx < 8; ++cx) {
-      for (int k = 0; k < 4; ++k) {
-        const cv::Point2f cur(80.f * cx + within(rng), 80.f * cy + within(rng));
-        const bool on_person = cur.x >= kMoverX;
-        cv::Point2f prev = WarpToPrevious(camera, on_person ? person : truth, cur, on_person ? 1.5 : 4.0);
-        prev += on_person ? cv::Point2f(person_noise(rng), person_noise(rng))
-                          : cv::Point2f(bg_noise(rng), bg_noise(rng));
-        p1.push_back(prev);
-        p2.push_back(cur);
-        valid.push_back(1);
-      }
-    }
-  }
+  const Rigid3d& truth = kDominantTruth;
+  const DominantMoverScene scene = MakeDominantMoverScene(camera, 0.1f, 0.2f);
+  const std::vector<cv::Point2f>&p1 = scene.p1, &p2 = scene.p2;
+  const std::vector<uint8_t>& valid = scene.valid;
+  const cv::Mat& depth = scene.depth;
   const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
   EXPECT_EQ(ego.seed_index, 0);
