@@ -124,7 +124,9 @@ KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, c
     }
     truth.on_object[i] = mask.at<uint8_t>(y, x) != 0;
     truth.support[i] = truth.on_object[i] || CircleTouches(mask, ignore, keypoints[i], level_scale_factor);
-    // An object pixel under the elliptic neighbourhood (what cv::dilate with this element sees).
+    // An object pixel under the elliptic neighbourhood (what cv::dilate with this element sees);
+    // the centre is part of it.
+    truth.near[i] = truth.on_object[i];
     for (int dy = -r; dy <= r && !truth.near[i]; ++dy) {
       for (int dx = -r; dx <= r; ++dx) {
         const int u = x + dx, v = y + dy;

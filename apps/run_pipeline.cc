@@ -261,9 +261,11 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       }
     }
     if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
+      // One truth per frame and mask for every statistic (still objects ignored for "moving now").
       const KeypointTruth now = ComputeKeypointTruth(record.detected, loaded.mask, loaded.still, level_scale);
-      label_stats.Add(loaded.still.empty() ? now : ComputeKeypointTruth(record.detected, loaded.mask, cv::Mat(), level_scale),
-                      record.keep);
+      const KeypointTruth all =
+          loaded.still.empty() ? now : ComputeKeypointTruth(record.detected, loaded.mask, cv::Mat(), level_scale);
+      label_stats.Add(all, record.keep);
       moving_now_stats.Add(now, record.keep);
       for (const auto& [cue, moving] : record.cue_flags) {
         std::vector<bool> keep(moving.size());

@@ -32,8 +32,9 @@ struct LkOptions {
   double fb_max_px = 1.0;
   bool backward_check = true;  // false: forward tracks only (CheckBackward later, on a subset)
   // > 0 and a guess given: LK first on the base image only, from the guess; a point whose result
-  // lies within base_first_px of its guess keeps it, the others are tracked again through the
-  // whole pyramid from the guess. 0: the whole pyramid for every point.
+  // lies within base_first_px of its guess, with a residual at most 3x the median, keeps it; the
+  // others (and failures) are tracked again through the whole pyramid from the guess. 0: the
+  // whole pyramid for every point.
   double base_first_px = 0.0;
 };
 

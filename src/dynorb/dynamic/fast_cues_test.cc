@@ -295,6 +295,12 @@ DominantMoverScene MakeDominantMoverScene(const PinholeCamera& camera, float bac
   return scene;
 }
 
+// The ego-motion of a dominant-mover scene, with the true motion as the prediction.
+EgoMotionResult EstimateInScene(const PinholeCamera& camera, const DominantMoverScene& scene,
+                                const EgoMotionOptions& options) {
+  return EstimateEgoMotion(camera, scene.p1, scene.p2, scene.valid, scene.depth, {kDominantTruth}, options);
+}
+
 // A walking person filling most of the view (30 of the 48 coverage cells, 120 points) fits a
 // rigid motion only loosely (a body is not rigid: 0.35 px per axis here), the background (18
 // cells, 72 points) to the tracking noise (0.05 px); the prediction is right. Scored at a 0.5 px
@@ -305,11 +311,8 @@ TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
   const PinholeCamera camera = Camera();
   const Rigid3d& truth = kDominantTruth;
   const DominantMoverScene scene = MakeDominantMoverScene(camera, 0.05f, 0.35f);
-  const std::vector<cv::Point2f>&p1 = scene.p1, &p2 = scene.p2;
-  const std::vector<uint8_t>& valid = scene.valid;
-  const cv::Mat& depth = scene.depth;
   auto error = [&truth](const EgoMotionResult& r) { return MotionError(r, truth); };
-  const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
+  const EgoMotionResult ego = EstimateInScene(camera, scene, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
   EXPECT_EQ(ego.seed_index, 0);
   EXPECT_LT(error(ego), 2e-3);
@@ -318,7 +321,7 @@ TEST(EgoMotion, ALooselyFittingDominantMoverDoesNotOutvoteACorrectPrediction) {
   EgoMotionOptions old_floor;
   old_floor.score_min_gate_px = 0.5;
   old_floor.seed_rigidity_ratio = 0.0;
-  const EgoMotionResult captured = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, old_floor);
+  const EgoMotionResult captured = EstimateInScene(camera, scene, old_floor);
   ASSERT_TRUE(captured.ok);
   EXPECT_EQ(captured.seed_index, -1);
   EXPECT_GT(error(captured), 0.02);
@@ -332,10 +335,7 @@ TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
   const PinholeCamera camera = Camera();
   const Rigid3d& truth = kDominantTruth;
   const DominantMoverScene scene = MakeDominantMoverScene(camera, 0.1f, 0.2f);
-  const std::vector<cv::Point2f>&p1 = scene.p1, &p2 = scene.p2;
-  const std::vector<uint8_t>& valid = scene.valid;
-  const cv::Mat& depth = scene.depth;
-  const EgoMotionResult ego = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, EgoMotionOptions());
+  const EgoMotionResult ego = EstimateInScene(camera, scene, EgoMotionOptions());
   ASSERT_TRUE(ego.ok);
   EXPECT_EQ(ego.seed_index, 0);
   // The flat background at 4 m with 0.1 px noise trades a little translation for rotation; the
@@ -344,7 +344,7 @@ TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
   // Coverage alone: the larger person wins.
   EgoMotionOptions coverage_only;
   coverage_only.seed_rigidity_ratio = 0.0;
-  const EgoMotionResult captured = EstimateEgoMotion(camera, p1, p2, valid, depth, {truth}, coverage_only);
+  const EgoMotionResult captured = EstimateInScene(camera, scene, coverage_only);
   ASSERT_TRUE(captured.ok);
   EXPECT_EQ(captured.seed_index, -1);
   EXPECT_GT(MotionError(captured, truth), 0.02);
@@ -421,7 +421,7 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
   const cv::Point2f bad_offset(12.f, -9.f);
   for (int y = 100; y < 380; y += 60) {
     const cv::Rect patch(420 - 10, y - 10, 21, 21);
-    const cv::Rect decoy = patch + cv::Point(-3 + 12, -1 - 9);
+    const cv::Rect decoy = patch + cv::Point(-3, -1) + cv::Point(bad_offset);
     cv::Mat faint;
     current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
     faint.copyTo(previous(decoy));
@@ -437,7 +437,7 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
       points.emplace_back(static_cast<float>(x), static_cast<float>(y));
       bad.push_back(x >= 400);
       guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
-                      (bad.back() ? cv::Point2f(12.f, -9.f) : cv::Point2f(0.4f, -0.3f)));
+                      (bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
     }
   }
   LkOptions base_first = pyramid_only;
