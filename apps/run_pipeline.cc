@@ -219,6 +219,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   } else {
     prefetcher = std::make_unique<Prefetcher<LoadedFrame>>(last - first, load);
   }
+  const double cpu_start = ProcessCpuSeconds();
   auto next_loaded = [&](size_t i) {
     return cli.preload ? std::move(preloaded[i - first]) : prefetcher->Next();
   };
@@ -229,6 +230,43 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   // Pipelining: the front ends of the next `depth` frames run ahead of this frame's tracking.
   const size_t depth = cli.pipeline ? static_cast<size_t>(cli.pipeline_depth) : 0;
   std::deque<LoadedFrame> upcoming;
+  // The ground-truth statistics of one frame (its record, its masks).
+  auto account = [&](const FrameRecord& record, const cv::Mat& mask, const cv::Mat& still) {
+    {  // Every frame counts here, judged or not: a mover the pose rests on is a mover.
+      const KeypointsOnObjects on = CountOnObjects(record.inliers, mask, still, level_scale);
+      const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, mask, still, level_scale);
+      inliers_on_movers.push_back(on.pixel);
+      new_landmarks_on_movers.push_back(created.pixel);
+      landmarks_created += static_cast<long long>(record.new_landmarks.size());
+      landmarks_on_movers += created.pixel;
+      landmarks_on_movers_support += created.support;
+      if (record.pose_valid) {
+        on_movers_pixel.push_back(on.pixel);
+        on_movers_support.push_back(on.support);
+        inliers_counted += static_cast<long long>(record.inliers.size());
+      }
+    }
+    if (record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
+      // One truth per frame and mask for every statistic (still objects ignored for "moving now").
+      const KeypointTruth now = ComputeKeypointTruth(record.detected, mask, still, level_scale);
+      const KeypointTruth all =
+          still.empty() ? now : ComputeKeypointTruth(record.detected, mask, cv::Mat(), level_scale);
+      label_stats.Add(all, record.keep);
+      moving_now_stats.Add(now, record.keep);
+      for (const auto& [cue, moving] : record.cue_flags) {
+        std::vector<bool> keep(moving.size());
+        for (size_t k = 0; k < moving.size(); ++k) keep[k] = !moving[k];
+        cue_stats.try_emplace(cue, level_scale).first->second.Add(now, keep);
+      }
+    }
+  };
+  // With --preload the masks are in memory already: the statistics are computed after the run,
+  // so the timed loop does only what a live run does. Otherwise each frame's masks are dropped
+  // after it, so its statistics are computed in the loop.
+  struct FrameMasks {
+    cv::Mat mask, still;
+  };
+  std::vector<FrameMasks> deferred;
   for (size_t i = first; i < last; ++i) {
     // Frames i .. i + depth loaded (upcoming starts at frame i).
     while (upcoming.size() < depth + 1 && i + upcoming.size() < last) {
@@ -246,31 +284,10 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     }
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m, ahead);
     if (masks) {
-      // Every frame counts here, judged or not: a mover the pose rests on is a mover.
-      const KeypointsOnObjects on = CountOnObjects(record.inliers, loaded.mask, loaded.still, level_scale);
-      const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, loaded.mask, loaded.still, level_scale);
-      inliers_on_movers.push_back(on.pixel);
-      new_landmarks_on_movers.push_back(created.pixel);
-      landmarks_created += static_cast<long long>(record.new_landmarks.size());
-      landmarks_on_movers += created.pixel;
-      landmarks_on_movers_support += created.support;
-      if (record.pose_valid) {
-        on_movers_pixel.push_back(on.pixel);
-        on_movers_support.push_back(on.support);
-        inliers_counted += static_cast<long long>(record.inliers.size());
-      }
-    }
-    if (masks && record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
-      // One truth per frame and mask for every statistic (still objects ignored for "moving now").
-      const KeypointTruth now = ComputeKeypointTruth(record.detected, loaded.mask, loaded.still, level_scale);
-      const KeypointTruth all =
-          loaded.still.empty() ? now : ComputeKeypointTruth(record.detected, loaded.mask, cv::Mat(), level_scale);
-      label_stats.Add(all, record.keep);
-      moving_now_stats.Add(now, record.keep);
-      for (const auto& [cue, moving] : record.cue_flags) {
-        std::vector<bool> keep(moving.size());
-        for (size_t k = 0; k < moving.size(); ++k) keep[k] = !moving[k];
-        cue_stats.try_emplace(cue, level_scale).first->second.Add(now, keep);
+      if (cli.preload) {
+        deferred.push_back({loaded.mask, loaded.still});
+      } else {
+        account(record, loaded.mask, loaded.still);
       }
     }
     if (save_overlay) {
@@ -300,6 +317,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;
+  inputs.cpu_seconds = ProcessCpuSeconds() - cpu_start;
+  for (size_t k = 0; k < deferred.size(); ++k) account(system.records()[k], deferred[k].mask, deferred[k].still);
   inputs.preload = cli.preload;
   inputs.preload_seconds = preload_seconds;
   std::optional<EvalResult> ate;

@@ -18,6 +18,7 @@ struct RunSummaryInputs {
   int pipeline_depth = 0;  // RunRequest::pipeline_depth when pipelined, else 0
   size_t first_frame = 0;
   double wall_seconds = 0.0;     // from the first frame's processing (after a preload)
+  double cpu_seconds = 0.0;      // CPU time of the process (all threads) over the same span
   bool preload = false;          // RunRequest::preload
   double preload_seconds = 0.0;  // decoding every frame before the run (with preload)
 };

@@ -78,7 +78,9 @@ for needle in "| syn_walking_xyz | 0.0500 [0.0400-0.0600] | 0.0130 [0.0120-0.014
   "| syn_walking_xyz | 1.00x [1.00-1.00] | 1.50x [1.50-1.50] |" "| syn_walking_xyz | fast | 85.0 [80.0-90.0] | 65.0 [60.0-70.0] | 40.0 [30.0-50.0] | 95.0 [94.0-96.0] | 83.0 [78.0-88.0] | 95.0 [93.0-97.0] | 20.0 [20.0-20.0] |" \
   "| dynorb plain | 0.300 | this run |" "| DynaSLAM (RGB-D) | 0.0150 |" "| DS-SLAM | 0.0247 |" "(not verified)" \
   "runs: 9 ok, 1 failed" "| fr3_walking_xyz | fast |" "| fr3_walking_xyz | - | - |" \
-  "| syn_walking_xyz | 0.0250 [0.0200-0.0300] | 0.0065 [0.0060-0.0070] |"; do
+  "| syn_walking_xyz | 0.0250 [0.0200-0.0300] | 0.0065 [0.0060-0.0070] |" \
+  "## CPU time per frame [ms]" "| syn_walking_xyz | 40.0 [40.0-40.0] | 56.0 [52.0-60.0] |" \
+  "## CPU ratio to plain" "| syn_walking_xyz | 1.00x [1.00-1.00] | 1.40x [1.30-1.50] |"; do
   grep -qF -- "$needle" "$MD" || fail "report.md lacks '$needle'"
 done
 HTML="$DIR/stored/report.html"
@@ -222,7 +224,14 @@ streamed, preloaded = (json.load(open(f)) for f in sys.argv[1:3])
 assert streamed["preload"] is False and "preload_seconds" not in streamed, streamed.get("preload")
 assert preloaded["preload"] is True and preloaded["preload_seconds"] > 0, preloaded.get("preload_seconds")
 assert preloaded["frames"] == streamed["frames"] == 14
+# With --preload the mask statistics are computed after the timed loop: the same numbers.
+for key in ("dynamic_keypoints", "inliers_on_moving_objects", "landmarks_created_on_moving_objects"):
+    assert preloaded[key] == streamed[key], key
+for s in (streamed, preloaded):
+    assert s["cpu_seconds"] > 0 and abs(s["cpu_ms_per_frame"] - 1000 * s["cpu_seconds"] / 14) < 1e-6, s["cpu_seconds"]
 EOF
+cmp -s <(cut -d, -f1-11,20- "$DIR/fastrun/frames.csv") <(cut -d, -f1-11,20- "$DIR/fastpre/frames.csv") ||
+  fail "--preload changed frames.csv beyond its timing columns"
 # A frame whose size disagrees with the config: exit 2, one error line naming the image, no
 # results; with --preload the first frame already fails, before the others are decoded (the
 # copy's 4th colour image is corrupt: decoding everything first would report that instead).

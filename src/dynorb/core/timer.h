@@ -1,7 +1,9 @@
 // Stopwatch on the steady clock. Not thread-safe; one per measuring thread.
+// ProcessCpuSeconds: CPU time (user + system) of the whole process, every thread, so far.
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace dynorb {
 
@@ -16,5 +18,7 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point start_;
 };
+
+inline double ProcessCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 }  // namespace dynorb
