@@ -264,9 +264,8 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
   r.tables.push_back(MetricTable(
       runs, names, "cpu", "CPU time per frame [ms]",
       "CPU time of every thread of the run over its frames, divided by the frames (stats.json "
-      "cpu_ms_per_frame; includes PNG decoding unless the frames were preloaded). It varies less than "
-      "the wall clock on a shared machine; a run that keeps both of 2 cores busy takes about half of it "
-      "per frame.",
+      "cpu_ms_per_frame; includes PNG decoding unless the frames were preloaded): what a mode costs the "
+      "machine. A run that keeps both of 2 cores busy takes about half of it per frame.",
       cpu, 1));
   const bool has_plain =
       std::find(names.modes.begin(), names.modes.end(), "plain") != names.modes.end();

@@ -107,9 +107,9 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["landmarks"] = system.NumLandmarks();
   j["wall_seconds"] = inputs.wall_seconds;
   j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
-  // CPU of every thread over the same span (without --preload it includes decoding the PNGs). On
-  // a busy machine it varies less than the wall clock; on 2 cores a run that keeps both busy
-  // takes about cpu_ms_per_frame / 2 per frame.
+  // CPU of every thread over the same span (without --preload it includes decoding the PNGs): what
+  // a mode costs the machine, and with wall_seconds how many cores the run kept busy. It moves with
+  // the host's speed as the wall clock does.
   j["cpu_seconds"] = inputs.cpu_seconds;
   j["cpu_ms_per_frame"] = 1000.0 * inputs.cpu_seconds / std::max<double>(1.0, static_cast<double>(records.size()));
   j["keypoints_per_frame"] = StatsJson(keypoints);
