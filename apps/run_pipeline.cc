@@ -232,19 +232,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   std::deque<LoadedFrame> upcoming;
   // The ground-truth statistics of one frame (its record, its masks).
   auto account = [&](const FrameRecord& record, const cv::Mat& mask, const cv::Mat& still) {
-    {  // Every frame counts here, judged or not: a mover the pose rests on is a mover.
-      const KeypointsOnObjects on = CountOnObjects(record.inliers, mask, still, level_scale);
-      const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, mask, still, level_scale);
-      inliers_on_movers.push_back(on.pixel);
-      new_landmarks_on_movers.push_back(created.pixel);
-      landmarks_created += static_cast<long long>(record.new_landmarks.size());
-      landmarks_on_movers += created.pixel;
-      landmarks_on_movers_support += created.support;
-      if (record.pose_valid) {
-        on_movers_pixel.push_back(on.pixel);
-        on_movers_support.push_back(on.support);
-        inliers_counted += static_cast<long long>(record.inliers.size());
-      }
+    // Every frame counts here, judged or not: a mover the pose rests on is a mover.
+    const KeypointsOnObjects on = CountOnObjects(record.inliers, mask, still, level_scale);
+    const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, mask, still, level_scale);
+    inliers_on_movers.push_back(on.pixel);
+    new_landmarks_on_movers.push_back(created.pixel);
+    landmarks_created += static_cast<long long>(record.new_landmarks.size());
+    landmarks_on_movers += created.pixel;
+    landmarks_on_movers_support += created.support;
+    if (record.pose_valid) {
+      on_movers_pixel.push_back(on.pixel);
+      on_movers_support.push_back(on.support);
+      inliers_counted += static_cast<long long>(record.inliers.size());
     }
     if (record.judged) {  // An unjudged frame's keypoints were withheld, not labelled.
       // One truth per frame and mask for every statistic (still objects ignored for "moving now").
