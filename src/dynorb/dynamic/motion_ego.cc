@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
 #include "dynorb/dynamic/fast_cues.h"
+#include "dynorb/optimization/pose_optimizer.h"
 
 namespace dynorb {
 namespace {
@@ -18,13 +21,6 @@ Rigid3d FromRvecTvec(const cv::Mat& rvec, const cv::Mat& tvec) {
   Eigen::Matrix3d rot;
   cv::cv2eigen(r, rot);
   return Rigid3d(rot, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
-}
-
-void ToRvecTvec(const Rigid3d& pose, cv::Mat* rvec, cv::Mat* tvec) {
-  cv::Mat r;
-  cv::eigen2cv(Eigen::Matrix3d(pose.rotation.toRotationMatrix()), r);
-  cv::Rodrigues(r, *rvec);
-  *tvec = (cv::Mat_<double>(3, 1) << pose.translation.x(), pose.translation.y(), pose.translation.z());
 }
 
 struct Problem {
@@ -78,30 +74,39 @@ struct Problem {
     }
   }
 
-  // Refit on the points within `gate`; false when fewer than min_points are.
-  bool Refit(double gate, Rigid3d* pose, int* inliers) const {
-    std::vector<cv::Point3f> obj_in;
-    std::vector<cv::Point2f> img_in;
-    Select(Inliers(*pose, gate), &obj_in, &img_in);
-    if (static_cast<int>(obj_in.size()) < options->min_points) return false;
-    *inliers = static_cast<int>(obj_in.size());
+  // Refit on the points within `gate`; false when fewer than min_points are. *last_selection:
+  // the points of the previous refit of this pose. When the gate selects the same points again,
+  // another fit would only continue the previous one (which converged or used its lm_iterations):
+  // it is skipped.
+  bool Refit(double gate, Rigid3d* pose, int* inliers, std::vector<uint8_t>* last_selection) const {
+    std::vector<uint8_t> selected = Inliers(*pose, gate);
+    const int count = static_cast<int>(std::count(selected.begin(), selected.end(), uint8_t{1}));
+    if (count < options->min_points) return false;
+    *inliers = count;
+    if (selected == *last_selection) return true;
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (size_t i = 0; i < selected.size(); ++i) {
+      if (!selected[i]) continue;
+      points.emplace_back(object[i].x, object[i].y, object[i].z);
+      pixels.emplace_back(image[i].x, image[i].y);
+    }
+    *last_selection = std::move(selected);
     // An evenly strided subset is enough for 6 parameters and keeps the cost flat.
-    if (options->max_fit_points > 0 && static_cast<int>(obj_in.size()) > options->max_fit_points) {
-      const double stride = static_cast<double>(obj_in.size()) / options->max_fit_points;
+    if (options->max_fit_points > 0 && count > options->max_fit_points) {
+      const double stride = static_cast<double>(count) / options->max_fit_points;
       for (int j = 0; j < options->max_fit_points; ++j) {
         const size_t from = static_cast<size_t>(j * stride);
-        obj_in[j] = obj_in[from];
-        img_in[j] = img_in[from];
+        points[j] = points[from];
+        pixels[j] = pixels[from];
       }
-      obj_in.resize(options->max_fit_points);
-      img_in.resize(options->max_fit_points);
+      points.resize(options->max_fit_points);
+      pixels.resize(options->max_fit_points);
     }
-    cv::Mat rvec, tvec;
-    ToRvecTvec(*pose, &rvec, &tvec);
-    cv::solvePnPRefineLM(obj_in, img_in, k, cv::noArray(), rvec, tvec,
-                         cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options->lm_iterations, 1e-8));
-    if (!cv::checkRange(rvec) || !cv::checkRange(tvec)) return false;
-    *pose = FromRvecTvec(rvec, tvec);
+    const std::optional<Rigid3d> fit =
+        RefinePoseLeastSquares(*camera, std::move(points), pixels, *pose, options->lm_iterations);
+    if (!fit) return false;
+    *pose = *fit;
     return true;
   }
 
@@ -122,8 +127,9 @@ struct Problem {
     *inliers = 0;
     double last_gate = options->ransac_px;
     bool shrunk = true;
+    std::vector<uint8_t> last_selection;
     for (double gate : options->gates_px) {
-      if (!Refit(gate, pose, inliers)) {
+      if (!Refit(gate, pose, inliers, &last_selection)) {
         shrunk = false;
         break;
       }
@@ -134,7 +140,7 @@ struct Problem {
       const double spread = Sigma(*pose, last_gate);
       if (!std::isfinite(spread)) break;
       const double gate = std::clamp(options->gate_sigmas * spread, options->min_gate_px, last_gate);
-      if (!Refit(gate, pose, inliers)) break;
+      if (!Refit(gate, pose, inliers, &last_selection)) break;
       last_gate = gate;
     }
     *sigma = Sigma(*pose, last_gate);

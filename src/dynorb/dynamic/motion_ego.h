@@ -3,9 +3,10 @@
 // onto their tracked positions in the previous frame, x1 ≈ π(prev_from_cur · π⁻¹(x2, z2)).
 //
 // Hypotheses are refined by iterative re-weighting: keep the points whose residual under the
-// current estimate is below a shrinking gate (5 → 3 → 2 px), refit (Levenberg–Marquardt
-// PnP on those), repeat; then the gate follows the data: gate_sigmas × the robust spread
-// (1.4826 × median) of the inliers' residuals, at least min_gate_px, refit again. The tight gate
+// current estimate is below a shrinking gate (5 → 3 → 2 px), refit (least-squares pose fit,
+// RefinePoseLeastSquares, on those; skipped when the gate keeps the same points), repeat; then
+// the gate follows the data: gate_sigmas × the robust spread (1.4826 × median) of the inliers'
+// residuals, at least min_gate_px, refit again. The tight gate
 // matters: a hypothesis that explains the background and a walking person together ("the camera
 // moved 6 cm and turned 1°" instead of "1 cm") fits most points within 2 px, but only the true
 // motion fits the background to the tracking noise (≈ 0.1 px on synthetic data). Hypotheses:
@@ -20,17 +21,16 @@
 // correct prediction (full-length walking_xyz s7, frames 825-830, session 12).
 // When a prediction alone fits to the noise floor (3 sigmas within min_gate_px) and covers
 // skip_search_coverage of the cells there, the camera-at-rest and RANSAC hypotheses are not tried
-// (they cost most of the time). The first seed (not the camera at rest) whose coverage is at least min_seed_coverage
-// and whose coverage and inlier count are at least seed_coverage_ratio × the best ones wins — on
-// a near-tie the prediction decides, so a mover about as large as the visible background cannot
-// capture the estimate. A seed with min_seed_coverage also wins when it fits more rigidly than
-// every hypothesis that covers more of the image (their spread sigma >= seed_rigidity_ratio × its
-// own): a walking person filling more than half of the view fits a rigid motion about twice as
-// loosely as the static background does (full-length walking_xyz s7, frames 825-829: 0.22-0.26
-// against 0.13 px), whatever the gate. Otherwise (start, lost, a prediction that follows a mover) the
-// hypothesis covering most of the image wins (the static background is spread over the image),
-// more inliers breaking a tie.
-// Pure function; thread-safe.
+// (they cost most of the time). The first seed (not the camera at rest) whose coverage is at least
+// min_seed_coverage and whose coverage and inlier count are at least seed_coverage_ratio × the best
+// ones wins — on a near-tie the prediction decides, so a mover about as large as the visible
+// background cannot capture the estimate. A seed with min_seed_coverage also wins when it fits more
+// rigidly than every hypothesis that covers more of the image (their spread sigma >=
+// seed_rigidity_ratio × its own): a walking person filling more than half of the view fits a rigid
+// motion about twice as loosely as the static background does (full-length walking_xyz s7, frames
+// 825-829: 0.22-0.26 against 0.13 px), whatever the gate. Otherwise (start, lost, a prediction that
+// follows a mover) the hypothesis covering most of the image wins (the static background is spread
+// over the image), more inliers breaking a tie. Pure function; thread-safe.
 #pragma once
 
 #include <optional>
@@ -51,7 +51,7 @@ struct EgoMotionOptions {
   int adaptive_iterations = 2;  // refits with the adaptive gate
   bool try_identity = true;     // also refine "the camera did not move"
   int max_fit_points = 150;     // each refit uses at most this many inliers (evenly strided; 0: all)
-  int lm_iterations = 5;       // Levenberg–Marquardt iterations per refit
+  int lm_iterations = 5;        // at most this many Levenberg–Marquardt iterations per refit
   int min_points = 12;          // fewer inliers: keep the previous estimate / fail
   double ransac_px = 3.0;       // PnP-RANSAC threshold (no prediction)
   int ransac_iterations = 200;  // PnP-RANSAC iterations (no prediction)

@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+#include <glog/logging.h>
 
 #include "dynorb/core/error.h"
 #include "dynorb/optimization/pose_block.h"
@@ -83,6 +85,40 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   result.cam_from_world = FromPoseBlock(pose.data());
   result.num_inliers = 0;
   for (bool b : result.inlier) result.num_inliers += b ? 1 : 0;
+  return result;
+}
+
+std::optional<Rigid3d> RefinePoseLeastSquares(const PinholeCamera& camera,
+                                              std::vector<Eigen::Vector3d> points_in_world,
+                                              const std::vector<Eigen::Vector2d>& pixels,
+                                              const Rigid3d& initial_cam_from_world,
+                                              int max_iterations) {
+  CHECK_EQ(points_in_world.size(), pixels.size()) << "one pixel per point";
+  CHECK_GE(max_iterations, 1);
+  if (points_in_world.size() < 3) return std::nullopt;
+  std::vector<KeypointObservation> observations(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) observations[i].uv = pixels[i];
+  PoseBlock pose = ToPoseBlock(initial_cam_from_world);
+  ceres::Problem problem;  // owns the manifold and the cost
+  problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
+  problem.AddResidualBlock(
+      NewPoseOnlyBatchCost(camera, 0.0, std::move(observations), std::move(points_in_world)),
+      nullptr, pose.data());
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = max_iterations;
+  // Converge as far as the iterations allow (Ceres' default tolerances stop a few iterations
+  // earlier, which moves the pose by ~1e-6 of its size: the callers compare fits at 0.1 px).
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (!summary.IsSolutionUsable()) return std::nullopt;
+  const Rigid3d result = FromPoseBlock(pose.data());
+  if (!result.translation.allFinite() || !result.rotation.coeffs().allFinite()) return std::nullopt;
   return result;
 }
 

@@ -14,6 +14,7 @@
 // Stateless and thread-safe; deterministic (single-threaded Ceres).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "dynorb/core/pinhole_camera.h"
@@ -51,5 +52,17 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                                  const std::vector<PoseObservation>& observations,
                                  const Rigid3d& initial_cam_from_world,
                                  const PoseOptimizerOptions& options = {});
+
+// Plain least-squares refinement (no robust kernel, no outlier rounds, unit weights) of
+// cam_from_world from the monocular pixels of points given in world coordinates:
+// Levenberg–Marquardt from the initial pose, at most max_iterations (>= 1) iterations, all points
+// in one residual block (cheap enough to call tens of times per frame: the FAST filter's
+// ego-motion). std::nullopt with fewer than 3 points or when the solver gives no usable finite
+// result. One pixel per point (checked, aborts). Deterministic.
+std::optional<Rigid3d> RefinePoseLeastSquares(const PinholeCamera& camera,
+                                              std::vector<Eigen::Vector3d> points_in_world,
+                                              const std::vector<Eigen::Vector2d>& pixels,
+                                              const Rigid3d& initial_cam_from_world,
+                                              int max_iterations);
 
 }  // namespace dynorb

@@ -149,6 +149,43 @@ TEST(PoseOptimizer, EmptyInputKeepsInitialPose) {
   EXPECT_EQ(r.num_inliers, 0);
 }
 
+// Plain least squares from a pose 3 degrees / 10 cm off, with the FAST ego-motion's 5 iterations:
+// exact projections give the pose back to a nanometre; pixel noise of 0.3 px over 150 points
+// leaves it within a millimetre and 0.05 degrees. One iteration gets closer but not there.
+TEST(PoseOptimizer, LeastSquaresRefinementRecoversAKnownPose) {
+  std::mt19937_64 rng(31);
+  const Rigid3d truth = testing::Perturb(Rigid3d(), 0.1, 0.2, rng);
+  const std::vector<Eigen::Vector3d> points = testing::RandomPointsInWorld(150, rng);
+  for (double sigma_px : {0.0, 0.3}) {
+    std::vector<Eigen::Vector2d> pixels;
+    for (const Eigen::Vector3d& x : points) {
+      pixels.push_back(testing::Observe(kCamera, 0.0, truth, x, false, sigma_px, rng).uv);
+    }
+    const Rigid3d start = testing::Perturb(truth, 3.0 * M_PI / 180.0, 0.1, rng);
+    const std::optional<Rigid3d> fit = RefinePoseLeastSquares(kCamera, points, pixels, start, 5);
+    ASSERT_TRUE(fit.has_value());
+    const double tolerance_m = sigma_px == 0.0 ? 1e-9 : 1e-3;
+    const double tolerance_rad = sigma_px == 0.0 ? 1e-9 : 0.05 * M_PI / 180.0;
+    EXPECT_LT((fit->translation - truth.translation).norm(), tolerance_m) << "sigma " << sigma_px;
+    EXPECT_LT(fit->rotation.angularDistance(truth.rotation), tolerance_rad) << "sigma " << sigma_px;
+    if (sigma_px > 0.0) continue;
+    const std::optional<Rigid3d> one = RefinePoseLeastSquares(kCamera, points, pixels, start, 1);
+    ASSERT_TRUE(one.has_value());
+    const double error_m = (one->translation - truth.translation).norm();
+    EXPECT_LT(error_m, 0.5 * (start.translation - truth.translation).norm());
+    EXPECT_GT(error_m, 1e-6);
+  }
+}
+
+TEST(PoseOptimizer, LeastSquaresRefinementNeedsThreePointsAndOnePixelEach) {
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 2}, {1, 0, 3}};
+  const std::vector<Eigen::Vector2d> pixels = {{320, 240}, {400, 240}};
+  EXPECT_FALSE(RefinePoseLeastSquares(kCamera, points, pixels, Rigid3d(), 10).has_value());
+  EXPECT_DEATH(RefinePoseLeastSquares(kCamera, points, {pixels[0]}, Rigid3d(), 10),
+               "one pixel per point");
+  EXPECT_DEATH(RefinePoseLeastSquares(kCamera, points, pixels, Rigid3d(), 0), "max_iterations");
+}
+
 TEST(PoseOptimizer, ValidateRejectsNonsense) {
   PoseOptimizerOptions options;
   options.num_rounds = 0;

@@ -8,6 +8,8 @@
 // inverse variance 1 / sigma^2 of the keypoint's pyramid level. Jacobians are analytic (see .cc).
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "dynorb/core/keypoint_observation.h"
@@ -25,6 +27,13 @@ ceres::CostFunction* NewReprojectionCost(const PinholeCamera& camera, double bf,
 ceres::CostFunction* NewPoseOnlyReprojectionCost(const PinholeCamera& camera, double bf,
                                                  const KeypointObservation& obs,
                                                  const Eigen::Vector3d& point_in_world);
+
+// Parameter blocks: [pose (7)]; the residuals of every observation (2 or 3 each, in order) against
+// its fixed point, stacked in one block: Ceres' per-block bookkeeping is paid once, which is what
+// matters for small fits repeated many times. One point per observation (checked, aborts).
+ceres::CostFunction* NewPoseOnlyBatchCost(const PinholeCamera& camera, double bf,
+                                          std::vector<KeypointObservation> observations,
+                                          std::vector<Eigen::Vector3d> points_in_world);
 
 // Unweighted chi^2 helper for outlier gating: information * |observed - predicted|^2.
 // Returns +inf when the point is not in front of the camera.

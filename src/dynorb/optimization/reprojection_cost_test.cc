@@ -1,8 +1,10 @@
 #include "dynorb/optimization/reprojection_cost.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include <ceres/cost_function.h>
 #include <ceres/manifold.h>
@@ -98,6 +100,54 @@ TEST(ReprojectionCost, MonoJacobians) { CheckJacobians(false, false); }
 TEST(ReprojectionCost, StereoJacobians) { CheckJacobians(true, false); }
 TEST(ReprojectionCost, PoseOnlyMonoJacobians) { CheckJacobians(false, true); }
 TEST(ReprojectionCost, PoseOnlyStereoJacobians) { CheckJacobians(true, true); }
+
+// The batch cost is the per-observation pose-only costs stacked: same residuals and Jacobian rows
+// for a mix of monocular and RGB-D observations with different weights.
+TEST(ReprojectionCost, PoseOnlyBatchStacksThePerObservationCosts) {
+  std::mt19937_64 rng(21);
+  const Rigid3d cam_from_world = testing::Perturb(Rigid3d(), 0.2, 0.3, rng);
+  const std::vector<Eigen::Vector3d> points = testing::RandomPointsInWorld(7, rng);
+  std::vector<KeypointObservation> observations;
+  for (size_t i = 0; i < points.size(); ++i) {
+    observations.push_back(
+        testing::Observe(kCamera, kBf, cam_from_world, points[i], i % 3 == 0, 1.5, rng));
+    observations.back().information = 1.0 / (1.0 + 0.2 * i);
+  }
+  std::unique_ptr<ceres::CostFunction> batch(
+      NewPoseOnlyBatchCost(kCamera, kBf, observations, points));
+  const PoseBlock pose = ToPoseBlock(testing::Perturb(cam_from_world, 0.01, 0.02, rng));
+  const int rows = batch->num_residuals();
+  ASSERT_EQ(rows, 3 * 3 + 4 * 2);
+  std::vector<double> residuals(rows), jacobian(rows * kPoseBlockSize);
+  double* batch_jacobians[1] = {jacobian.data()};
+  const double* params[1] = {pose.data()};
+  ASSERT_TRUE(batch->Evaluate(params, residuals.data(), batch_jacobians));
+  int row = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    std::unique_ptr<ceres::CostFunction> one(
+        NewPoseOnlyReprojectionCost(kCamera, kBf, observations[i], points[i]));
+    double r[3], j[3 * kPoseBlockSize];
+    double* one_jacobians[1] = {j};
+    ASSERT_TRUE(one->Evaluate(params, r, one_jacobians));
+    for (int k = 0; k < one->num_residuals(); ++k, ++row) {
+      EXPECT_DOUBLE_EQ(residuals[row], r[k]) << "observation " << i;
+      for (int c = 0; c < kPoseBlockSize; ++c) {
+        EXPECT_DOUBLE_EQ(jacobian[row * kPoseBlockSize + c], j[k * kPoseBlockSize + c]);
+      }
+    }
+  }
+  EXPECT_EQ(row, rows);
+  // Residuals only (Ceres' cost evaluations): no Jacobians at all, or a null pose Jacobian.
+  std::vector<double> again(rows);
+  ASSERT_TRUE(batch->Evaluate(params, again.data(), nullptr));
+  EXPECT_EQ(again, residuals);
+  double* no_pose_jacobian[1] = {nullptr};
+  std::fill(again.begin(), again.end(), 0.0);
+  ASSERT_TRUE(batch->Evaluate(params, again.data(), no_pose_jacobian));
+  EXPECT_EQ(again, residuals);
+  EXPECT_DEATH(NewPoseOnlyBatchCost(kCamera, kBf, observations, {points[0]}),
+               "one point per observation");
+}
 
 TEST(ReprojectionCost, ZeroResidualAtTruthAndChi2) {
   std::mt19937_64 rng(5);

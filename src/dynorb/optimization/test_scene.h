@@ -18,17 +18,19 @@ inline std::vector<Eigen::Vector3d> RandomPointsInWorld(int count, std::mt19937_
   return points;
 }
 
-// Projects with pixel noise sigma; u_right from the true depth (RGB-D) when `stereo`.
+// Projects with pixel noise sigma (0: exact, no random draws); u_right from the true depth
+// (RGB-D) when `stereo`.
 inline KeypointObservation Observe(const PinholeCamera& cam, double bf, const Rigid3d& cam_from_world,
                                    const Eigen::Vector3d& point_in_world, bool stereo, double sigma_px,
                                    std::mt19937_64& rng) {
-  std::normal_distribution<double> noise(0.0, sigma_px);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto noise = [&]() { return sigma_px > 0.0 ? sigma_px * unit(rng) : 0.0; };
   const Eigen::Vector3d p = cam_from_world * point_in_world;
   KeypointObservation obs;
   const Eigen::Vector2d uv = cam.Project(p);
-  obs.uv = uv + Eigen::Vector2d(noise(rng), noise(rng));
+  obs.uv = uv + Eigen::Vector2d(noise(), noise());
   // Independent noise on u_r (as from an independent depth error).
-  if (stereo) obs.u_right = uv.x() - bf / p.z() + noise(rng);
+  if (stereo) obs.u_right = uv.x() - bf / p.z() + noise();
   obs.information = 1.0;
   return obs;
 }
