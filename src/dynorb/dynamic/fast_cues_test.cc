@@ -603,5 +603,67 @@ TEST(Suspect, PropagatesWhereDepthMatchesAndExpires) {
   EXPECT_EQ(cv::countNonZero(next.Suspect(3)), 0);
 }
 
+// Under a real camera motion the suspect map follows the scene: every current pixel takes the
+// age + 1 of the previous pixel its point lands on (WarpToPrevious, nearest low-resolution pixel)
+// where the depths agree. Random depths and ages against that rule applied pixel by pixel.
+TEST(Suspect, FollowsTheCameraMotionPixelByPixel) {
+  const PinholeCamera camera = Camera();
+  const int s = 4, max_age = 3;
+  const double tol = 0.2;
+  cv::RNG rng(15);
+  cv::Mat low(120, 160, CV_32F);
+  rng.fill(low, cv::RNG::UNIFORM, 1.0, 4.0);
+  low(cv::Rect(0, 0, 160, 10)).setTo(0.f);  // no depth: never suspect
+  SuspectMap previous;
+  previous.age = cv::Mat(low.size(), CV_8U);
+  rng.fill(previous.age, cv::RNG::UNIFORM, 0, 6);
+  previous.depth = cv::Mat(low.size(), CV_32F);
+  const Rigid3d prev_from_cur(Eigen::AngleAxisd(0.03, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix(),
+                              Eigen::Vector3d(0.04, -0.02, 0.03));
+  // Random previous depths: most disagree with the points landing there.
+  for (int y = 0; y < low.rows; ++y) {
+    for (int x = 0; x < low.cols; ++x) previous.depth.at<float>(y, x) = static_cast<float>(rng.uniform(0.5, 5.0));
+  }
+  // Where the point of current pixel (x, y) lands: the previous low-resolution pixel, its depth there.
+  auto land = [&](int x, int y, long* px, long* py, double* z_prev) {
+    const float z = low.at<float>(y, x);
+    if (z <= 0.f) return false;
+    const cv::Point2f u = WarpToPrevious(camera, prev_from_cur, cv::Point2f(x * s + s / 2, y * s + s / 2), z, z_prev);
+    *px = std::lround((u.x + 0.5f) / s - 0.5f);
+    *py = std::lround((u.y + 0.5f) / s - 0.5f);
+    return *px >= 0 && *py >= 0 && *px < low.cols && *py < low.rows;
+  };
+  long px = 0, py = 0;
+  double z_prev = 0.0;
+  // Make half of the landing pixels agree in depth.
+  for (int y = 0; y < low.rows; ++y) {
+    for (int x = 0; x < low.cols; ++x) {
+      if ((x + y) % 2 == 0 && land(x, y, &px, &py, &z_prev)) {
+        previous.depth.at<float>(py, px) = static_cast<float>(z_prev + 0.1 * rng.uniform(-1.0, 1.0));
+      }
+    }
+  }
+  int expected_suspect = 0, carried = 0;
+  cv::Mat expected_age(low.size(), CV_8U, cv::Scalar(255));
+  for (int y = 0; y < low.rows; ++y) {
+    for (int x = 0; x < low.cols; ++x) {
+      if (!land(x, y, &px, &py, &z_prev)) continue;
+      const int age = previous.age.at<uint8_t>(py, px);
+      if (age >= max_age || std::abs(previous.depth.at<float>(py, px) - z_prev) > tol) continue;
+      expected_age.at<uint8_t>(y, x) = static_cast<uint8_t>(age + 1);
+      ++carried;
+      expected_suspect += age + 1 <= max_age;
+    }
+  }
+  ASSERT_GT(carried, 1000);
+  const SuspectMap next = PropagateSuspect(previous, low, camera, s, prev_from_cur, max_age, tol);
+  EXPECT_EQ(cv::countNonZero(next.age != expected_age), 0);
+  EXPECT_EQ(cv::countNonZero(next.Suspect(max_age)), expected_suspect);
+  // Nothing young enough in the previous map: nothing carried over.
+  SuspectMap old = previous;
+  old.age.setTo(max_age);
+  EXPECT_EQ(cv::countNonZero(PropagateSuspect(old, low, camera, s, prev_from_cur, max_age, tol).Suspect(max_age)), 0);
+}
+
 }  // namespace
 }  // namespace dynorb

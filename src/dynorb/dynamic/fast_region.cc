@@ -167,21 +167,36 @@ SuspectMap PropagateSuspect(const SuspectMap& previous, const cv::Mat& low_depth
   out.age = cv::Mat(low_depth_cur.size(), CV_8U, cv::Scalar(255));
   out.depth = cv::Mat::zeros(low_depth_cur.size(), CV_32F);
   if (previous.empty() || previous.age.size() != low_depth_cur.size()) return out;
+  // Nothing young enough to carry over: nothing to warp.
+  if (cv::countNonZero(previous.age < max_age) == 0) return out;
+  // The point of pixel (u, v) with depth z lands at z * (m * (u, v, 1)) + t in the previous camera,
+  // m = R * K^-1: one column step per pixel instead of a back-projection and a rotation.
+  const Eigen::Matrix3d k_inv =
+      (Eigen::Matrix3d() << 1.0 / camera.fx, 0.0, -camera.cx / camera.fx, 0.0, 1.0 / camera.fy,
+       -camera.cy / camera.fy, 0.0, 0.0, 1.0)
+          .finished();
+  const Eigen::Matrix3d m = prev_from_cur.rotation.toRotationMatrix() * k_inv;
+  const Eigen::Vector3d& t = prev_from_cur.translation;
   for (int y = 0; y < low_depth_cur.rows; ++y) {
+    const float* depth_row = low_depth_cur.ptr<float>(y);
+    uint8_t* age_row = out.age.ptr<uint8_t>(y);
+    float* out_depth_row = out.depth.ptr<float>(y);
+    const Eigen::Vector3d row_ray = m * Eigen::Vector3d(0.0, y * scale + scale / 2, 1.0);
     for (int x = 0; x < low_depth_cur.cols; ++x) {
-      const float z = low_depth_cur.at<float>(y, x);
+      const float z = depth_row[x];
       if (z <= 0.f) continue;
-      const cv::Point2f full(x * scale + scale / 2, y * scale + scale / 2);
-      double z_prev = 0.0;
-      const cv::Point2f u = WarpToPrevious(camera, prev_from_cur, full, z, &z_prev);
-      const int px = static_cast<int>(std::lround((u.x + 0.5f) / scale - 0.5f));
-      const int py = static_cast<int>(std::lround((u.y + 0.5f) / scale - 0.5f));
-      if (px < 0 || py < 0 || px >= low_depth_cur.cols || py >= low_depth_cur.rows) continue;
+      const Eigen::Vector3d p = z * (row_ray + m.col(0) * static_cast<double>(x * scale + scale / 2)) + t;
+      if (p.z() <= 1e-6) continue;
+      const double u = camera.fx * p.x() / p.z() + camera.cx, v = camera.fy * p.y() / p.z() + camera.cy;
+      // Nearest low-resolution pixel of the previous map; outside it: nothing carried over.
+      const double lx = (u + 0.5) / scale - 0.5, ly = (v + 0.5) / scale - 0.5;
+      if (!(lx > -0.5 && ly > -0.5 && lx < low_depth_cur.cols - 0.5 && ly < low_depth_cur.rows - 0.5)) continue;
+      const int px = static_cast<int>(lx + 0.5), py = static_cast<int>(ly + 0.5);
       const int age = previous.age.at<uint8_t>(py, px);
       if (age >= max_age) continue;
-      if (std::abs(previous.depth.at<float>(py, px) - z_prev) > depth_tol_m) continue;
-      out.age.at<uint8_t>(y, x) = static_cast<uint8_t>(age + 1);
-      out.depth.at<float>(y, x) = z;
+      if (std::abs(previous.depth.at<float>(py, px) - p.z()) > depth_tol_m) continue;
+      age_row[x] = static_cast<uint8_t>(age + 1);
+      out_depth_row[x] = z;
     }
   }
   return out;

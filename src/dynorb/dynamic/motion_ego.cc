@@ -40,7 +40,8 @@ struct Problem {
       const Eigen::Vector3d x = r * Eigen::Vector3d(object[i].x, object[i].y, object[i].z) + pose.translation;
       if (x.z() <= 1e-6) continue;
       const Eigen::Vector2d u = camera->Project(x);
-      res[i] = std::hypot(u.x() - image[i].x, u.y() - image[i].y);
+      const double dx = u.x() - image[i].x, dy = u.y() - image[i].y;
+      res[i] = std::sqrt(dx * dx + dy * dy);
     }
     return res;
   }
