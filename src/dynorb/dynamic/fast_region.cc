@@ -166,9 +166,14 @@ SuspectMap PropagateSuspect(const SuspectMap& previous, const cv::Mat& low_depth
   SuspectMap out;
   out.age = cv::Mat(low_depth_cur.size(), CV_8U, cv::Scalar(255));
   out.depth = cv::Mat::zeros(low_depth_cur.size(), CV_32F);
-  if (previous.empty() || previous.age.size() != low_depth_cur.size()) return out;
+  if (previous.empty() || previous.age.size() != low_depth_cur.size() ||
+      previous.depth.size() != previous.age.size() || previous.depth.type() != CV_32F) {
+    return out;
+  }
   // Nothing young enough to carry over: nothing to warp.
-  if (cv::countNonZero(previous.age < max_age) == 0) return out;
+  double youngest = 0.0;
+  cv::minMaxLoc(previous.age, &youngest);
+  if (youngest >= max_age) return out;
   // The point of pixel (u, v) with depth z lands at z * (m * (u, v, 1)) + t in the previous camera,
   // m = R * K^-1: one column step per pixel instead of a back-projection and a rotation.
   const Eigen::Matrix3d k_inv =
