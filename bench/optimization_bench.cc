@@ -112,14 +112,17 @@ struct RefitScene {
     std::mt19937_64 rng(15);
     const Rigid3d truth = testing::Perturb(Rigid3d(), 0.01, 0.02, rng);
     points = testing::RandomPointsInWorld(n, rng);
-    for (const Eigen::Vector3d& p : points) pixels.push_back(testing::Observe(camera, 0.0, truth, p, false, 0.15, rng).uv);
+    for (const Eigen::Vector3d& p : points) {
+      pixels.push_back(testing::Observe(camera, 0.0, truth, p, false, 0.15, rng).uv);
+    }
     start = testing::Perturb(truth, 0.0035, 0.004, rng);
   }
 };
 void BM_EgoRefit_Ceres(benchmark::State& state) {
   const RefitScene scene(static_cast<int>(state.range(0)));
   for (auto _ : state) {
-    benchmark::DoNotOptimize(RefinePoseLeastSquares(scene.camera, scene.points, scene.pixels, scene.start, 5));
+    benchmark::DoNotOptimize(
+        RefinePoseLeastSquares(scene.camera, scene.points, scene.pixels, scene.start, 5));
   }
 }
 BENCHMARK(BM_EgoRefit_Ceres)->Arg(150)->Unit(benchmark::kMicrosecond);
@@ -131,17 +134,18 @@ void BM_EgoRefit_OpenCv(benchmark::State& state) {
     object.emplace_back(scene.points[i].x(), scene.points[i].y(), scene.points[i].z());
     image.emplace_back(scene.pixels[i].x(), scene.pixels[i].y());
   }
-  const cv::Mat k = (cv::Mat_<double>(3, 3) << scene.camera.fx, 0, scene.camera.cx, 0, scene.camera.fy,
-                     scene.camera.cy, 0, 0, 1);
+  const cv::Mat k = (cv::Mat_<double>(3, 3) << scene.camera.fx, 0, scene.camera.cx, 0,
+                     scene.camera.fy, scene.camera.cy, 0, 0, 1);
   cv::Mat r, rvec0;
   cv::eigen2cv(Eigen::Matrix3d(scene.start.rotation.toRotationMatrix()), r);
   cv::Rodrigues(r, rvec0);
-  const cv::Mat tvec0 = (cv::Mat_<double>(3, 1) << scene.start.translation.x(), scene.start.translation.y(),
-                         scene.start.translation.z());
+  const cv::Mat tvec0 = (cv::Mat_<double>(3, 1) << scene.start.translation.x(),
+                         scene.start.translation.y(), scene.start.translation.z());
   for (auto _ : state) {
     cv::Mat rvec = rvec0.clone(), tvec = tvec0.clone();
-    cv::solvePnPRefineLM(object, image, k, cv::noArray(), rvec, tvec,
-                         cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 1e-8));
+    cv::solvePnPRefineLM(
+        object, image, k, cv::noArray(), rvec, tvec,
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 1e-8));
     benchmark::DoNotOptimize(tvec.data);
   }
 }

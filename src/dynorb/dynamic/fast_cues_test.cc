@@ -622,18 +622,21 @@ TEST(Suspect, FollowsTheCameraMotionPixelByPixel) {
   previous.depth = cv::Mat(low.size(), CV_32F);
   // Random previous depths: most disagree with the points landing there.
   rng.fill(previous.depth, cv::RNG::UNIFORM, 0.5, 5.0);
-  Rigid3d prev_from_cur(Eigen::AngleAxisd(0.03, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix(),
-                        Eigen::Vector3d(0.04, -0.02, 0.03));
+  Rigid3d prev_from_cur(
+      Eigen::AngleAxisd(0.03, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix(),
+      Eigen::Vector3d(0.04, -0.02, 0.03));
   // Where the point of current pixel (x, y) lands: the previous low-resolution pixel, its depth
   // there; *clear: not near a rounding boundary.
   auto land = [&](int x, int y, long* px, long* py, double* z_prev, bool* clear) {
     const float z = low.at<float>(y, x);
     if (z <= 0.f) return false;
-    const cv::Point2f u = WarpToPrevious(camera, prev_from_cur, cv::Point2f(x * s + s / 2, y * s + s / 2), z, z_prev);
+    const cv::Point2f u =
+        WarpToPrevious(camera, prev_from_cur, cv::Point2f(x * s + s / 2, y * s + s / 2), z, z_prev);
     const float lx = (u.x + 0.5f) / s - 0.5f, ly = (u.y + 0.5f) / s - 0.5f;
     *px = std::lround(lx);
     *py = std::lround(ly);
-    *clear = std::abs(lx - std::floor(lx) - 0.5f) > 1e-3f && std::abs(ly - std::floor(ly) - 0.5f) > 1e-3f;
+    *clear = std::abs(lx - std::floor(lx) - 0.5f) > 1e-3f &&
+             std::abs(ly - std::floor(ly) - 0.5f) > 1e-3f;
     return *px >= 0 && *py >= 0 && *px < low.cols && *py < low.rows;
   };
   long px = 0, py = 0;
@@ -643,7 +646,8 @@ TEST(Suspect, FollowsTheCameraMotionPixelByPixel) {
   for (int y = 0; y < low.rows; ++y) {
     for (int x = 0; x < low.cols; ++x) {
       if ((x + y) % 2 == 0 && land(x, y, &px, &py, &z_prev, &clear)) {
-        previous.depth.at<float>(py, px) = static_cast<float>(z_prev + 0.1 * rng.uniform(-1.0, 1.0));
+        previous.depth.at<float>(py, px) =
+            static_cast<float>(z_prev + 0.1 * rng.uniform(-1.0, 1.0));
       }
     }
   }
@@ -688,8 +692,10 @@ TEST(Suspect, FollowsTheCameraMotionPixelByPixel) {
   check(PropagateSuspect(previous, low, camera, s, prev_from_cur, max_age, tol), 1000, 0);
   // ... and nothing once every pixel is too old.
   previous.age.setTo(max_age);
-  EXPECT_EQ(cv::countNonZero(PropagateSuspect(previous, low, camera, s, prev_from_cur, max_age, tol).Suspect(max_age)),
-            0);
+  EXPECT_EQ(
+      cv::countNonZero(
+          PropagateSuspect(previous, low, camera, s, prev_from_cur, max_age, tol).Suspect(max_age)),
+      0);
 }
 
 }  // namespace

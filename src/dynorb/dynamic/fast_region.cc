@@ -176,10 +176,9 @@ SuspectMap PropagateSuspect(const SuspectMap& previous, const cv::Mat& low_depth
   if (youngest >= max_age) return out;
   // The point of pixel (u, v) with depth z lands at z * (m * (u, v, 1)) + t in the previous camera,
   // m = R * K^-1: one column step per pixel instead of a back-projection and a rotation.
-  const Eigen::Matrix3d k_inv =
-      (Eigen::Matrix3d() << 1.0 / camera.fx, 0.0, -camera.cx / camera.fx, 0.0, 1.0 / camera.fy,
-       -camera.cy / camera.fy, 0.0, 0.0, 1.0)
-          .finished();
+  const Eigen::Matrix3d k_inv = (Eigen::Matrix3d() << 1.0 / camera.fx, 0.0, -camera.cx / camera.fx,
+                                 0.0, 1.0 / camera.fy, -camera.cy / camera.fy, 0.0, 0.0, 1.0)
+                                    .finished();
   const Eigen::Matrix3d m = prev_from_cur.rotation.toRotationMatrix() * k_inv;
   const Eigen::Vector3d& t = prev_from_cur.translation;
   for (int y = 0; y < low_depth_cur.rows; ++y) {
@@ -190,12 +189,17 @@ SuspectMap PropagateSuspect(const SuspectMap& previous, const cv::Mat& low_depth
     for (int x = 0; x < low_depth_cur.cols; ++x) {
       const float z = depth_row[x];
       if (z <= 0.f) continue;
-      const Eigen::Vector3d p = z * (row_ray + m.col(0) * static_cast<double>(x * scale + scale / 2)) + t;
+      const Eigen::Vector3d p =
+          z * (row_ray + m.col(0) * static_cast<double>(x * scale + scale / 2)) + t;
       if (p.z() <= 1e-6) continue;
-      const double u = camera.fx * p.x() / p.z() + camera.cx, v = camera.fy * p.y() / p.z() + camera.cy;
+      const double u = camera.fx * p.x() / p.z() + camera.cx,
+                   v = camera.fy * p.y() / p.z() + camera.cy;
       // Nearest low-resolution pixel of the previous map; outside it: nothing carried over.
       const double lx = (u + 0.5) / scale - 0.5, ly = (v + 0.5) / scale - 0.5;
-      if (!(lx > -0.5 && ly > -0.5 && lx < low_depth_cur.cols - 0.5 && ly < low_depth_cur.rows - 0.5)) continue;
+      if (!(lx > -0.5 && ly > -0.5 && lx < low_depth_cur.cols - 0.5 &&
+            ly < low_depth_cur.rows - 0.5)) {
+        continue;
+      }
       const int px = static_cast<int>(lx + 0.5), py = static_cast<int>(ly + 0.5);
       const int age = previous.age.at<uint8_t>(py, px);
       if (age >= max_age) continue;
