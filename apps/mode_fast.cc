@@ -27,6 +27,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_seed_own_motion", &o.lk_seed_own_motion,
            "seed LK with the filter's own last ego-motion when it has one (one frame old; the tracker's "
            "prediction is older when pipelined)")
+      .Add("lk_fb_levels", &o.lk_fb_levels,
+           "pyramid levels above the base image of the forward-backward check (capped at lk_levels)")
       .Add("lk_base_first_px", &o.lk_base_first_px,
            "with a prediction: LK on the base image first, points ending farther than this from the "
            "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")

@@ -86,8 +86,9 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   }
   std::vector<cv::Point2f> back = current;
   if (options.backward_check) {
-    cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status, error, window,
-                             options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, c.previous, back, back_status,
+                             error, window, options.BackwardLevels(), criteria,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
   } else {
     back_status.assign(n, 1);
   }
@@ -140,8 +141,8 @@ int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vecto
   std::vector<float> error;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
   cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, from, back, status, error,
-                           cv::Size(options.window_px, options.window_px), options.levels, criteria,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
+                           cv::Size(options.window_px, options.window_px), options.BackwardLevels(),
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   const double max2 = options.fb_max_px * options.fb_max_px;
   int invalidated = 0;
   for (size_t k = 0; k < indices.size(); ++k) {

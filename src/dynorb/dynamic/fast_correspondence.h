@@ -36,6 +36,12 @@ struct LkOptions {
   // others (and failures) are tracked again through the whole pyramid from the guess. 0: the
   // whole pyramid for every point.
   double base_first_px = 0.0;
+  // Levels above the base image of the backward check (< 0 or > levels: all `levels`). It starts
+  // from the point's current position, the right answer whenever the forward track was right.
+  int backward_levels = -1;
+  int BackwardLevels() const {
+    return backward_levels >= 0 && backward_levels < levels ? backward_levels : levels;
+  }
 };
 
 // The LK image pyramid (with derivatives) of one frame; built once per frame and reused as the

@@ -380,7 +380,14 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
     if (i % 3 == 0) c.previous[i] += cv::Point2f(6.f, -6.f);
     if (i % 2 == 0) subset.push_back(static_cast<int>(i));
   }
+  // The check through two levels (the FAST default) finds the same bad tracks as through four.
+  LkOptions two_levels = lk;
+  two_levels.backward_levels = 1;
+  Correspondences c2 = c;
+  EXPECT_EQ(CheckBackward(prev_pyr, cur_pyr, points, subset, two_levels, &c2),
+            static_cast<int>((subset.size() + 2) / 3));
   const int invalidated = CheckBackward(prev_pyr, cur_pyr, points, subset, lk, &c);
+  EXPECT_EQ(c2.valid, c.valid);
   int expected = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     const bool checked_bad = i % 3 == 0 && i % 2 == 0;

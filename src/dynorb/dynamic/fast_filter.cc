@@ -57,6 +57,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   lk.fb_max_px = options_.lk_fb_max_px;
   lk.backward_check = !options_.lk_fb_candidates_only;
   lk.base_first_px = options_.lk_base_first_px;
+  lk.backward_levels = options_.lk_fb_levels;
   std::vector<cv::Mat> pyramid;
   cv::Mat descriptors;
   Correspondences corr;
