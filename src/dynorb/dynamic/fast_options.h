@@ -20,7 +20,7 @@ struct FastOptions {
                                          // check keeps bad tracks from looking like movers)
   int lk_fb_levels = 1;                  // pyramid levels above the base image of the backward
                                          // check (capped at lk_levels; session 15: 1 instead of 3
-                                         // gave the same labels, ~1 ms less per frame)
+                                         // gave the same labels, ~0.25 ms less per frame)
   int lk_max_points = 400;               // track at most this many keypoints, spread over the
                                          // image (0: all); the others are judged by regions
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
