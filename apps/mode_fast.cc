@@ -29,9 +29,6 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "prediction is older when pipelined)")
       .Add("lk_fb_levels", &o.lk_fb_levels,
            "pyramid levels above the base image of the forward-backward check (capped at lk_levels)")
-      .Add("lk_coarse_window_px", &o.lk_coarse_window_px,
-           "> 0 with lk_base_first_px: points sent back are retracked from half resolution with "
-           "this window (px, odd), then polished on the base image (0: through the whole pyramid)")
       .Add("lk_base_first_px", &o.lk_base_first_px,
            "with a prediction: LK on the base image first, points ending farther than this from the "
            "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <glog/logging.h>
 #include <opencv2/video/tracking.hpp>
 
 #include "dynorb/features/orb_matcher.h"
@@ -18,23 +17,9 @@ std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& option
 
 namespace {
 
-// A pyramid built with derivatives (image, derivatives per level) seen from level 1.
-std::vector<cv::Mat> FromLevelOne(const std::vector<cv::Mat>& pyramid) {
-  CHECK_GE(pyramid.size(), 4u);
-  CHECK_EQ(pyramid[1].type(), CV_16SC2) << "the LK pyramid must hold derivatives";
-  return std::vector<cv::Mat>(pyramid.begin() + 2, pyramid.end());
-}
-
-std::vector<cv::Point2f> Scaled(const std::vector<cv::Point2f>& points, float scale) {
-  std::vector<cv::Point2f> out(points.size());
-  for (size_t i = 0; i < points.size(); ++i) out[i] = points[i] * scale;
-  return out;
-}
-
 // LK on the base image only from the guesses in *previous (cheap: a good guess converges there);
 // the points that end farther than base_first_px from their guess, fail, or end with a large
-// residual are tracked again through the whole pyramid from their guess
-// (or, with coarse_window_px, from level 1 and polished on the base image).
+// residual are tracked again through the whole pyramid from their guess.
 void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
                     const std::vector<cv::Point2f>& current, const LkOptions& options,
                     std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
@@ -70,24 +55,8 @@ void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vec
     to.push_back(guess[i]);
   }
   std::vector<uint8_t> again_status;
-  if (options.coarse_window_px > 0 && previous_pyramid.size() >= 4 && current_pyramid.size() >= 4) {
-    // From half resolution with the coarse window, then polished on the base image.
-    std::vector<cv::Point2f> half = Scaled(to, 0.5f);
-    cv::calcOpticalFlowPyrLK(FromLevelOne(current_pyramid), FromLevelOne(previous_pyramid),
-                             Scaled(from, 0.5f), half, again_status, error,
-                             cv::Size(options.coarse_window_px, options.coarse_window_px),
-                             options.levels - 1, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-    to = Scaled(half, 2.f);
-    std::vector<uint8_t> polished;
-    cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, from, to, polished, error, window,
-                             0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-    for (size_t k = 0; k < again_status.size(); ++k) {
-      again_status[k] = again_status[k] && polished[k];
-    }
-  } else {
-    cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, from, to, again_status, error,
-                             window, options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-  }
+  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, from, to, again_status, error, window, options.levels,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < again.size(); ++k) {
     (*previous)[again[k]] = to[k];
     (*status)[again[k]] = again_status[k];

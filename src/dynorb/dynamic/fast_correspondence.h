@@ -39,11 +39,6 @@ struct LkOptions {
   // Levels above the base image of the backward check (< 0 or > levels: all `levels`). It starts
   // from the point's current position, the right answer whenever the forward track was right.
   int backward_levels = -1;
-  // > 0 (with base_first_px > 0 and levels >= 1): the points the base-first pass sends back are
-  // retracked from pyramid level 1 (half resolution) with this window and then polished on the
-  // base image with window_px (a retrack costs ~half as much; its answer is the base image's).
-  // 0: retracked through the whole pyramid with window_px.
-  int coarse_window_px = 0;
   int BackwardLevels() const {
     return backward_levels >= 0 && backward_levels < levels ? backward_levels : levels;
   }

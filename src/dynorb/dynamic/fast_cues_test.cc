@@ -413,64 +413,48 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
 // Base image first: from a good guess the base-level pass gives the whole pyramid's answer; a
 // guess far off (a mover the prediction does not know: the right third of the points here) is
 // tracked again through the pyramid, also where the base level got stuck near the guess.
-// A blurred-noise texture shifted by (3, 1) px between the frames, a grid of points, guesses
-// 0.5 px off on the left and `bad_offset` off on the right (x >= 400), where the previous image
-// also holds (with `decoys`) faint copies of some points' patches at the bad guess: the base level
-// stops there (same shape) with a large residual (half the contrast).
-struct DecoyScene {
-  explicit DecoyScene(cv::Point2f bad_offset, bool decoys = true) {
-    cv::Mat noise(240, 320, CV_8U);
-    cv::RNG rng(20261203);
-    rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
-    cv::Mat texture;
-    cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
-    cv::resize(texture, texture, cv::Size(640, 480));
-    cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
-    cv::Mat previous = texture.clone(), current;
-    // current = previous moved by (3, 1)
-    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);
-    cv::warpAffine(texture, current, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-    for (int y = 100; decoys && y < 380; y += 60) {
-      const cv::Rect patch(420 - 10, y - 10, 21, 21);
-      const cv::Rect decoy = patch + cv::Point(-3, -1) + cv::Point(bad_offset);
-      cv::Mat faint;
-      current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
-      faint.copyTo(previous(decoy));
-    }
-    pyramid_only.backward_check = false;
-    previous_pyramid = BuildLkPyramid(previous, pyramid_only);
-    current_pyramid = BuildLkPyramid(current, pyramid_only);
-    for (int y = 100; y < 380; y += 20) {
-      for (int x = 100; x < 540; x += 20) {
-        points.emplace_back(static_cast<float>(x), static_cast<float>(y));
-        bad.push_back(x >= 400);
-        guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
-                        (bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
-      }
-    }
-  }
-  Correspondences Track(const LkOptions& options) const {
-    return TrackWithFlow(previous_pyramid, current_pyramid, points, guess, options);
+TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
+  cv::Mat noise(240, 320, CV_8U);
+  cv::RNG rng(20261203);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat texture;
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
+  cv::resize(texture, texture, cv::Size(640, 480));
+  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
+  cv::Mat previous = texture.clone(), current;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);  // current = previous moved (3, 1)
+  cv::warpAffine(texture, current, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  // Decoys: at some bad guesses the previous image holds a faint copy of the point's patch, so the
+  // base level stops at the guess (same shape) with a large residual (half the contrast).
+  const cv::Point2f bad_offset(12.f, -9.f);
+  for (int y = 100; y < 380; y += 60) {
+    const cv::Rect patch(420 - 10, y - 10, 21, 21);
+    const cv::Rect decoy = patch + cv::Point(-3, -1) + cv::Point(bad_offset);
+    cv::Mat faint;
+    current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
+    faint.copyTo(previous(decoy));
   }
   LkOptions pyramid_only;
-  std::vector<cv::Mat> previous_pyramid, current_pyramid;
+  pyramid_only.backward_check = false;
+  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, pyramid_only),
+                             cur_pyr = BuildLkPyramid(current, pyramid_only);
   std::vector<cv::Point2f> points, guess;
   std::vector<bool> bad;
-};
-
-TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
-  const DecoyScene scene(cv::Point2f(12.f, -9.f));
-  const LkOptions& pyramid_only = scene.pyramid_only;
-  const std::vector<cv::Point2f>& points = scene.points;
-  const std::vector<cv::Point2f>& guess = scene.guess;
-  const std::vector<bool>& bad = scene.bad;
+  for (int y = 100; y < 380; y += 20) {
+    for (int x = 100; x < 540; x += 20) {
+      points.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      bad.push_back(x >= 400);
+      guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
+                      (bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
+    }
+  }
   LkOptions base_first = pyramid_only;
   base_first.base_first_px = 1.0;
   LkOptions base_only = pyramid_only;
   base_only.levels = 0;
-  const Correspondences full = scene.Track(pyramid_only);
-  const Correspondences fast = scene.Track(base_first);
-  const Correspondences base = scene.Track(base_only);
+  const Correspondences full = TrackWithFlow(prev_pyr, cur_pyr, points, guess, pyramid_only);
+  const Correspondences fast = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_first);
+  const Correspondences base = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_only);
   ASSERT_EQ(fast.num_valid, full.num_valid);
   int num_bad = 0, base_wrong = 0, base_stuck = 0, right = 0;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -492,50 +476,6 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
   EXPECT_GT(base_wrong, num_bad / 4);
   // At the decoys it stops within base_first_px of the guess: only its residual sends it back.
   EXPECT_GE(base_stuck, 1);
-}
-
-// Retracks from half resolution, polished on the base image: with the pyramid's own window they
-// give its answer (the polish converges to the same point), at decoys 15 px off and for guesses
-// 25 px off (a person at 1 m crossing the view) on a texture without decoys. With the smaller
-// coarse window of the default (15 px) they bridge the same decoy cases and >= 90 % of the 25 px
-// guesses on this smooth texture (an 11 px window bridges only ~80 % of them).
-TEST(LkFlow, CoarseRetracksFromHalfResolutionGiveThePyramidsAnswer) {
-  for (const bool far : {false, true}) {
-    const DecoyScene scene(far ? cv::Point2f(-20.f, 15.f) : cv::Point2f(12.f, -9.f),
-                           /*decoys=*/!far);
-    LkOptions base_first = scene.pyramid_only;
-    base_first.base_first_px = 1.0;
-    LkOptions same_window = base_first, small_window = base_first;
-    same_window.coarse_window_px = base_first.window_px;
-    small_window.coarse_window_px = 15;
-    const Correspondences reference = scene.Track(base_first);
-    const Correspondences coarse = scene.Track(same_window);
-    const Correspondences small = scene.Track(small_window);
-    int num_bad = 0, reference_right = 0, coarse_right = 0, small_right = 0;
-    const auto right = [&scene](const Correspondences& c, size_t i) {
-      const cv::Point2f e = c.previous[i] - (scene.points[i] - cv::Point2f(3.f, 1.f));
-      return c.valid[i] && scene.bad[i] && std::hypot(e.x, e.y) < 0.1f;
-    };
-    for (size_t i = 0; i < scene.points.size(); ++i) {
-      ASSERT_EQ(coarse.valid[i], reference.valid[i]) << i;
-      if (reference.valid[i]) {
-        EXPECT_NEAR(coarse.previous[i].x, reference.previous[i].x, 0.03f) << i;
-        EXPECT_NEAR(coarse.previous[i].y, reference.previous[i].y, 0.03f) << i;
-      }
-      num_bad += scene.bad[i];
-      reference_right += right(reference, i);
-      coarse_right += right(coarse, i);
-      small_right += right(small, i);
-    }
-    EXPECT_GT(num_bad, 80);
-    EXPECT_EQ(coarse_right, reference_right) << far;
-    if (far) {
-      EXPECT_EQ(reference_right, num_bad);
-      EXPECT_GE(small_right, num_bad * 9 / 10);
-    } else {
-      EXPECT_GE(small_right, reference_right);
-    }
-  }
 }
 
 TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {

@@ -58,7 +58,6 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   lk.backward_check = !options_.lk_fb_candidates_only;
   lk.base_first_px = options_.lk_base_first_px;
   lk.backward_levels = options_.lk_fb_levels;
-  lk.coarse_window_px = options_.lk_coarse_window_px;
   std::vector<cv::Mat> pyramid;
   cv::Mat descriptors;
   Correspondences corr;

@@ -21,8 +21,6 @@ void FastOptions::Validate() const {
   Require(lk_max_points >= 0, "lk_max_points must be >= 0 (0: all)");
   Require(lk_base_first_px >= 0.0, "lk_base_first_px must be >= 0 (0: off)");
   Require(lk_fb_levels >= 0, "lk_fb_levels must be >= 0");
-  Require(lk_coarse_window_px == 0 || (lk_coarse_window_px >= 5 && lk_coarse_window_px % 2 == 1),
-          "lk_coarse_window_px must be 0 (off) or odd and >= 5");
   Require(ego_rigidity_ratio == 0.0 || ego_rigidity_ratio >= 1.0, "ego_rigidity_ratio must be 0 (off) or >= 1");
   Require(bf_max_ratio > 0.0 && bf_max_ratio <= 1.0, "bf_max_ratio must be in (0, 1]");
   Require(residual_mismatch_px > 0.0, "residual_mismatch_px must be > 0");

@@ -26,9 +26,6 @@ struct FastOptions {
   bool lk_predict_initial = true;        // seed LK with the motion-model + depth prediction
   bool lk_seed_own_motion = true;        // ... with the filter's own last ego-motion when it has one
                                          // (one frame old; the tracker's is older when pipelined)
-  int lk_coarse_window_px = 0;           // > 0 (base first): points sent back are retracked from
-                                         // half resolution with this window, then polished on
-                                         // the base image (0: whole pyramid, lk_window_px)
   double lk_base_first_px = 1.0;         // > 0 (with a prediction): LK on the base image first;
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
