@@ -13,6 +13,7 @@
 //     regions stay suspect for a few frames (fast_region.h);
 //  6. seeds grown into depth regions (fast_region.h); every keypoint in a dynamic region, every
 //     seed and every flagged track is removed (keep = false).
+// Code: fast_filter.cc (Filter, stages 1–3), fast_filter_classify.cc (4–6, overlay).
 // Owns the previous frame's LK pyramid, keypoints, descriptors (descriptor mode), depth, track
 // memory and suspect map. Called from the tracking thread only (KeypointFilter contract);
 // deterministic (fixed RANSAC seeds).
@@ -92,6 +93,14 @@ class FastFilter : public KeypointFilter {
   const std::vector<float>& residuals_px() const { return last_residual_; }
 
  private:
+  struct FrameWork;  // one frame's intermediate results (fast_filter_frame.h)
+  // The stages of Filter(), in order (numbers as in the header comment).
+  void FindCorrespondences(FrameWork* w);                      // 1.
+  void EstimateMotion(FrameWork* w);                           // 2.
+  void ComputeWarpResidual(FrameWork* w) const;                // rigid-warp residual, depth cue
+  void EstimateFundamental(FrameWork* w);                      // 3.
+  void Classify(FrameWork* w);                                 // 4. and the track memory of 5.
+  void GrowRegionsAndRemove(FrameWork* w, FilterOutput* out);  // 5. suspect map, 6.
   cv::Mat DrawOverlay(const FilterInput& input, const std::vector<cv::Point2f>& p1,
                       const std::vector<cv::Point2f>& p2, const cv::Mat& mask) const;
 
