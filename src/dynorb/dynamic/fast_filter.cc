@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/timer.h"
 #include "dynorb/dynamic/fast_correspondence.h"
@@ -26,7 +25,8 @@ FastTiming& FastTiming::operator+=(const FastTiming& o) {
   return *this;
 }
 
-FastFilter::FastFilter(const FastOptions& options, const PinholeCamera& camera, const OrbOptions& orb)
+FastFilter::FastFilter(const FastOptions& options, const PinholeCamera& camera,
+                       const OrbOptions& orb)
     : options_((options.Validate(), options)), camera_(camera), extractor_(orb) {}
 
 FilterOutput FastFilter::Filter(const FilterInput& input) {
@@ -222,8 +222,12 @@ void FastFilter::EstimateFundamental(FrameWork* w) {
 }
 
 std::vector<std::pair<std::string, double>> FastFilter::StageTimings() const {
-  return {{"flow", timing_.flow_ms},       {"ego_motion", timing_.ego_ms}, {"fundamental", timing_.fundamental_ms},
-          {"classify", timing_.cues_ms},   {"region", timing_.region_ms},  {"overlay", timing_.overlay_ms}};
+  return {{"flow", timing_.flow_ms},
+          {"ego_motion", timing_.ego_ms},
+          {"fundamental", timing_.fundamental_ms},
+          {"classify", timing_.cues_ms},
+          {"region", timing_.region_ms},
+          {"overlay", timing_.overlay_ms}};
 }
 
 std::vector<std::pair<std::string, std::vector<bool>>> FastFilter::CueFlags() const {

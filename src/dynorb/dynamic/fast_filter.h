@@ -13,7 +13,8 @@
 //     regions stay suspect for a few frames (fast_region.h);
 //  6. seeds grown into depth regions (fast_region.h); every keypoint in a dynamic region, every
 //     seed and every flagged track is removed (keep = false).
-// Code: fast_filter.cc (Filter, stages 1–3), fast_filter_classify.cc (4–6, overlay).
+// Code: fast_filter.cc (Filter; correspondences, ego-motion, warp residual, F),
+// fast_filter_classify.cc (cues and fusion, track memory, suspect map, regions, removal, overlay).
 // Owns the previous frame's LK pyramid, keypoints, descriptors (descriptor mode), depth, track
 // memory and suspect map. Called from the tracking thread only (KeypointFilter contract);
 // deterministic (fixed RANSAC seeds).

@@ -1,5 +1,7 @@
-// FastFilter's later stages: classification (cues, fusion, track memory), regions and removal,
-// and the overlay. The earlier stages and Filter() itself are in fast_filter.cc.
+// FastFilter's later stages: the cues' votes and their fusion into seeds (with the backward check
+// of the candidates), track memory, suspect map, regions and removal, and the overlay. Filter()
+// itself and the earlier stages (correspondences, ego-motion, warp residual, F) are in
+// fast_filter.cc.
 #include "dynorb/dynamic/fast_filter.h"
 
 #include <algorithm>
@@ -9,6 +11,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/dynamic/fast_correspondence.h"
+#include "dynorb/dynamic/fast_cues.h"
 #include "dynorb/dynamic/fast_filter_frame.h"
 #include "dynorb/dynamic/fast_region.h"
 #include "dynorb/features/orb_matcher.h"

@@ -2,6 +2,7 @@
 // FastFilter::Filter (fast_filter.cc, fast_filter_classify.cc). Internal to the dynamic module.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
