@@ -1,7 +1,7 @@
 // The FAST mode's cues on constructed data: a known F with injected moving points, flow fields
 // with an independent mover, the rigid-warp residual and ego-motion under pure rotation and with a
-// mover covering most of the image, LK correspondences (regions and the suspect map:
-// fast_region_test.cc).
+// mover covering most of the image (LK correspondences: fast_correspondence_test.cc; regions and
+// the suspect map: fast_region_test.cc).
 #include "dynorb/dynamic/fast_cues.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +11,6 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "dynorb/dynamic/fast_correspondence.h"
 #include "dynorb/dynamic/fast_region.h"
 #include "dynorb/dynamic/motion_ego.h"
 #include "dynorb/geometry/two_view.h"
@@ -349,150 +348,6 @@ TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
   ASSERT_TRUE(captured.ok);
   EXPECT_EQ(captured.seed_index, -1);
   EXPECT_GT(MotionError(captured, truth), 0.02);
-}
-
-// Forward tracks only, then the backward check on a subset: a track moved off its true position
-// fails the check and is invalidated; good tracks and points outside the subset are untouched.
-TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
-  cv::Mat noise(240, 320, CV_8U);
-  cv::randu(noise, 0, 255);
-  cv::Mat texture;
-  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
-  cv::resize(texture, texture, cv::Size(640, 480));
-  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
-  cv::Mat previous = texture, current;
-  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);  // current = previous moved (3, 1)
-  cv::warpAffine(previous, current, shift, previous.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  LkOptions lk;
-  lk.backward_check = false;
-  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, lk), cur_pyr = BuildLkPyramid(current, lk);
-  std::vector<cv::Point2f> points;
-  for (int y = 60; y < 420; y += 40)
-    for (int x = 60; x < 580; x += 40) points.emplace_back(static_cast<float>(x), static_cast<float>(y));
-  Correspondences c = TrackWithFlow(prev_pyr, cur_pyr, points, {}, lk);
-  ASSERT_EQ(c.num_valid, static_cast<int>(points.size()));
-  for (size_t i = 0; i < points.size(); ++i) {
-    EXPECT_NEAR(c.previous[i].x, points[i].x - 3.f, 0.1f);
-    EXPECT_NEAR(c.previous[i].y, points[i].y - 1.f, 0.1f);
-  }
-  // Corrupt every third track by 6 px; check the even indices only.
-  std::vector<int> subset;
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (i % 3 == 0) c.previous[i] += cv::Point2f(6.f, -6.f);
-    if (i % 2 == 0) subset.push_back(static_cast<int>(i));
-  }
-  // The check through two levels (the FAST default) finds the same bad tracks as through four.
-  LkOptions two_levels = lk;
-  two_levels.backward_levels = 1;
-  Correspondences c2 = c;
-  EXPECT_EQ(CheckBackward(prev_pyr, cur_pyr, points, subset, two_levels, &c2),
-            static_cast<int>((subset.size() + 2) / 3));
-  const int invalidated = CheckBackward(prev_pyr, cur_pyr, points, subset, lk, &c);
-  EXPECT_EQ(c2.valid, c.valid);
-  int expected = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const bool checked_bad = i % 3 == 0 && i % 2 == 0;
-    expected += checked_bad;
-    EXPECT_EQ(c.valid[i], checked_bad ? 0 : 1) << i;
-    EXPECT_EQ(c.for_f[i], checked_bad ? 0 : 1) << i;
-  }
-  EXPECT_EQ(invalidated, expected);
-  EXPECT_EQ(c.num_valid, static_cast<int>(points.size()) - expected);
-  // Tracking a subset: only the listed points get correspondences.
-  const Correspondences part = TrackSubsetWithFlow(prev_pyr, cur_pyr, points, subset, {}, lk);
-  ASSERT_EQ(part.valid.size(), points.size());
-  EXPECT_EQ(part.num_valid, static_cast<int>(subset.size()));
-  for (size_t i = 0; i < points.size(); ++i) {
-    EXPECT_EQ(part.valid[i], i % 2 == 0 ? 1 : 0) << i;
-    const cv::Point2f expect = i % 2 == 0 ? points[i] - cv::Point2f(3.f, 1.f) : points[i];
-    EXPECT_NEAR(part.previous[i].x, expect.x, 0.1f);
-    EXPECT_NEAR(part.previous[i].y, expect.y, 0.1f);
-  }
-}
-
-// Base image first: from a good guess the base-level pass gives the whole pyramid's answer; a
-// guess far off (a mover the prediction does not know: the right third of the points here) is
-// tracked again through the pyramid, also where the base level got stuck near the guess.
-TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
-  cv::Mat noise(240, 320, CV_8U);
-  cv::RNG rng(20261203);
-  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
-  cv::Mat texture;
-  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
-  cv::resize(texture, texture, cv::Size(640, 480));
-  cv::normalize(texture, texture, 0, 255, cv::NORM_MINMAX);
-  cv::Mat previous = texture.clone(), current;
-  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 1);  // current = previous moved (3, 1)
-  cv::warpAffine(texture, current, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  // Decoys: at some bad guesses the previous image holds a faint copy of the point's patch, so the
-  // base level stops at the guess (same shape) with a large residual (half the contrast).
-  const cv::Point2f bad_offset(12.f, -9.f);
-  for (int y = 100; y < 380; y += 60) {
-    const cv::Rect patch(420 - 10, y - 10, 21, 21);
-    const cv::Rect decoy = patch + cv::Point(-3, -1) + cv::Point(bad_offset);
-    cv::Mat faint;
-    current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
-    faint.copyTo(previous(decoy));
-  }
-  LkOptions pyramid_only;
-  pyramid_only.backward_check = false;
-  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, pyramid_only),
-                             cur_pyr = BuildLkPyramid(current, pyramid_only);
-  std::vector<cv::Point2f> points, guess;
-  std::vector<bool> bad;
-  for (int y = 100; y < 380; y += 20) {
-    for (int x = 100; x < 540; x += 20) {
-      points.emplace_back(static_cast<float>(x), static_cast<float>(y));
-      bad.push_back(x >= 400);
-      guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
-                      (bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
-    }
-  }
-  LkOptions base_first = pyramid_only;
-  base_first.base_first_px = 1.0;
-  LkOptions base_only = pyramid_only;
-  base_only.levels = 0;
-  const Correspondences full = TrackWithFlow(prev_pyr, cur_pyr, points, guess, pyramid_only);
-  const Correspondences fast = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_first);
-  const Correspondences base = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_only);
-  ASSERT_EQ(fast.num_valid, full.num_valid);
-  int num_bad = 0, base_wrong = 0, base_stuck = 0, right = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    ASSERT_EQ(fast.valid[i], full.valid[i]) << i;
-    if (!full.valid[i]) continue;
-    // The whole pyramid's answer, good guess or bad.
-    EXPECT_NEAR(fast.previous[i].x, full.previous[i].x, 0.02f) << i;
-    EXPECT_NEAR(fast.previous[i].y, full.previous[i].y, 0.02f) << i;
-    const cv::Point2f truth = points[i] - cv::Point2f(3.f, 1.f);
-    const cv::Point2f e = full.previous[i] - truth, b = base.previous[i] - full.previous[i];
-    const cv::Point2f g = base.previous[i] - guess[i];
-    right += std::hypot(e.x, e.y) < 0.1f;
-    num_bad += bad[i];
-    base_wrong += bad[i] && (!base.valid[i] || std::hypot(b.x, b.y) > 0.1f);
-    base_stuck += bad[i] && base.valid[i] && std::hypot(g.x, g.y) <= 1.f && std::hypot(b.x, b.y) > 0.5f;
-  }
-  EXPECT_GT(right, static_cast<int>(points.size()) * 9 / 10);  // the pyramid finds the shift
-  // The base level alone does not bridge many of the bad guesses: the retracking finds them.
-  EXPECT_GT(base_wrong, num_bad / 4);
-  // At the decoys it stops within base_first_px of the guess: only its residual sends it back.
-  EXPECT_GE(base_stuck, 1);
-}
-
-TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {
-  std::vector<cv::KeyPoint> keypoints;
-  // Cell (0, 0) of the 16x12 grid on 640x480 (40x40 px): three keypoints; three other cells: one each.
-  keypoints.emplace_back(cv::Point2f(5.f, 5.f), 7.f, -1.f, 10.f);    // 0
-  keypoints.emplace_back(cv::Point2f(15.f, 5.f), 7.f, -1.f, 30.f);   // 1 strongest of cell (0, 0)
-  keypoints.emplace_back(cv::Point2f(25.f, 5.f), 7.f, -1.f, 20.f);   // 2
-  keypoints.emplace_back(cv::Point2f(600.f, 5.f), 7.f, -1.f, 1.f);   // 3
-  keypoints.emplace_back(cv::Point2f(5.f, 470.f), 7.f, -1.f, 1.f);   // 4
-  keypoints.emplace_back(cv::Point2f(320.f, 240.f), 7.f, -1.f, 1.f); // 5
-  const cv::Size image(640, 480);
-  EXPECT_EQ(SpreadSubset(keypoints, image, 0).size(), keypoints.size());   // 0: all
-  EXPECT_EQ(SpreadSubset(keypoints, image, 10).size(), keypoints.size());  // fewer than the cap
-  EXPECT_EQ(SpreadSubset(keypoints, image, 4), (std::vector<int>{1, 3, 4, 5}));  // one per cell first
-  EXPECT_EQ(SpreadSubset(keypoints, image, 5), (std::vector<int>{1, 2, 3, 4, 5}));  // then the second best
-  EXPECT_EQ(SpreadSubset(keypoints, image, 2), (std::vector<int>{1, 3}));  // first round, by index
 }
 
 TEST(WarpResidual, NoMotionAndDepthChange) {
