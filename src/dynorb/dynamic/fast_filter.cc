@@ -25,9 +25,28 @@ FastTiming& FastTiming::operator+=(const FastTiming& o) {
   return *this;
 }
 
+namespace {
+
+LkOptions LkFromOptions(const FastOptions& options) {
+  LkOptions lk;
+  lk.window_px = options.lk_window_px;
+  lk.levels = options.lk_levels;
+  lk.iterations = options.lk_iterations;
+  lk.fb_max_px = options.lk_fb_max_px;
+  lk.backward_check = !options.lk_fb_candidates_only;
+  lk.base_first_px = options.lk_base_first_px;
+  lk.backward_levels = options.lk_fb_levels;
+  return lk;
+}
+
+}  // namespace
+
 FastFilter::FastFilter(const FastOptions& options, const PinholeCamera& camera,
                        const OrbOptions& orb)
-    : options_((options.Validate(), options)), camera_(camera), extractor_(orb) {}
+    : options_((options.Validate(), options)),
+      lk_(LkFromOptions(options_)),
+      camera_(camera),
+      extractor_(orb) {}
 
 FilterOutput FastFilter::Filter(const FilterInput& input) {
   Stopwatch total, watch;
@@ -102,7 +121,7 @@ void FastFilter::FindCorrespondences(FrameWork* w) {
     }
     return;
   }
-  w->pyramid = BuildLkPyramid(*input.gray, w->lk);
+  w->pyramid = BuildLkPyramid(*input.gray, lk_);
   if (!has_previous_) return;
   // LK's guess: the first seed, or the filter's own last ego-motion (one frame old; the tracker's
   // prediction is up to the pipeline depth older).
@@ -123,7 +142,7 @@ void FastFilter::FindCorrespondences(FrameWork* w) {
       initial.push_back(guess);
     }
   }
-  w->corr = TrackSubsetWithFlow(previous_pyramid_, w->pyramid, w->p2, subset, initial, w->lk);
+  w->corr = TrackSubsetWithFlow(previous_pyramid_, w->pyramid, w->p2, subset, initial, lk_);
 }
 
 // 2. Ego-motion.

@@ -28,6 +28,7 @@
 #include <opencv2/core.hpp>
 
 #include "dynorb/core/pinhole_camera.h"
+#include "dynorb/dynamic/fast_correspondence.h"
 #include "dynorb/dynamic/fast_options.h"
 #include "dynorb/dynamic/fast_region.h"
 #include "dynorb/dynamic/keypoint_filter.h"
@@ -106,6 +107,7 @@ class FastFilter : public KeypointFilter {
                       const std::vector<cv::Point2f>& p2, const cv::Mat& mask) const;
 
   FastOptions options_;
+  LkOptions lk_;  // the LK part of options_
   PinholeCamera camera_;
   OrbExtractor extractor_;
   // Previous frame.

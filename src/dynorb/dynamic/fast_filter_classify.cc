@@ -57,7 +57,7 @@ void FastFilter::Classify(FrameWork* w) {
         candidates.push_back(static_cast<int>(i));
       }
     }
-    CheckBackward(previous_pyramid_, w->pyramid, p2, candidates, w->lk, &w->corr);
+    CheckBackward(previous_pyramid_, w->pyramid, p2, candidates, lk_, &w->corr);
     for (int i : candidates) {
       if (valid[i]) continue;
       epi[i] = dir[i] = mag[i] = warp.residual[i] = warp.depth[i] = CueVote::kUnknown;

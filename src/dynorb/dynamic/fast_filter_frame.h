@@ -26,13 +26,6 @@ struct FastFilter::FrameWork {
         p2(n),
         history(n, 0) {
     for (size_t i = 0; i < n; ++i) p2[i] = keypoints[i].pt;
-    lk.window_px = options.lk_window_px;
-    lk.levels = options.lk_levels;
-    lk.iterations = options.lk_iterations;
-    lk.fb_max_px = options.lk_fb_max_px;
-    lk.backward_check = !options.lk_fb_candidates_only;
-    lk.base_first_px = options.lk_base_first_px;
-    lk.backward_levels = options.lk_fb_levels;
   }
   const FilterInput& input;
   const std::vector<cv::KeyPoint>& keypoints;
@@ -41,7 +34,6 @@ struct FastFilter::FrameWork {
   const float max_depth;
   std::vector<cv::Point2f> p2;  // current keypoint positions
   std::vector<cv::Point2f> p1;  // their positions in the previous frame (when tracked)
-  LkOptions lk;
   std::vector<cv::Mat> pyramid;  // current frame's LK pyramid (flow mode)
   cv::Mat descriptors;           // current frame's descriptors (descriptor mode)
   Correspondences corr;
