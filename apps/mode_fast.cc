@@ -32,6 +32,13 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_base_first_px", &o.lk_base_first_px,
            "with a prediction: LK on the base image first, points ending farther than this from the "
            "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
+      .Add("lk_base_window_px", &o.lk_base_window_px,
+           "LK window of the first base-image pass (px, odd, <= lk_window_px; 0: lk_window_px)")
+      .Add("ego_skip_previous_mask", &o.ego_skip_previous_mask,
+           "tracked points whose previous position lies in the previous frame's dynamic regions do "
+           "not vote for the ego-motion (a mover that dominates the view cannot capture it)")
+      .Add("ego_skip_max_fraction", &o.ego_skip_max_fraction,
+           "... unless they are more than this fraction of the tracked points (then all vote)")
       .Add("bf_best_fraction", &o.bf_best_fraction,
            "descriptors: fraction of best matches used for F")
       .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")

@@ -150,8 +150,49 @@ void BM_FastFlow_Track(benchmark::State& state) {
     i = i + 1 < clip.gray.size() ? i + 1 : 1;
   }
 }
+// LK on the base image first (lk_base_first_px) with a window of state.range(0) px (0: the
+// 21 px default), from guesses 0.5 px off the full pyramid's answer (what a one-frame-old
+// ego-motion gives); the points that end > 1 px off are tracked again through the pyramid.
+void BM_FastFlow_BaseFirst(benchmark::State& state) {
+  const Clip& clip = GetClip();
+  LkOptions lk;
+  lk.backward_check = false;
+  std::vector<std::vector<cv::Mat>> pyramids;
+  for (const cv::Mat& g : clip.gray) pyramids.push_back(BuildLkPyramid(g, lk));
+  struct Pair {
+    std::vector<cv::Point2f> points, guesses;
+    std::vector<int> subset;
+  };
+  std::vector<Pair> pairs(clip.gray.size());
+  for (size_t i = 1; i < clip.gray.size(); ++i) {
+    for (const auto& kp : clip.keypoints[i].keypoints) pairs[i].points.push_back(kp.pt);
+    pairs[i].subset = SpreadSubset(clip.keypoints[i].keypoints, clip.gray[i].size(), 400);
+    const Correspondences full =
+        TrackSubsetWithFlow(pyramids[i - 1], pyramids[i], pairs[i].points, pairs[i].subset, {}, lk);
+    for (int k : pairs[i].subset)
+      pairs[i].guesses.push_back(full.previous[k] + cv::Point2f(0.5f, -0.5f));
+  }
+  lk.base_first_px = 1.0;
+  lk.base_window_px = static_cast<int>(state.range(0));
+  size_t i = 1;
+  for (auto _ : state) {
+    const Pair& p = pairs[i];
+    benchmark::DoNotOptimize(
+        TrackSubsetWithFlow(pyramids[i - 1], pyramids[i], p.points, p.subset, p.guesses, lk));
+    i = i + 1 < clip.gray.size() ? i + 1 : 1;
+  }
+}
+
 BENCHMARK(BM_FastFlow_Pyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFlow_Track)->Arg(400)->Arg(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FastFlow_BaseFirst)
+    ->Arg(0)
+    ->Arg(15)
+    ->Arg(11)
+    ->Arg(9)
+    ->Arg(7)
+    ->ArgName("base_window_px")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFilter_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_ReportCuesOnly_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);

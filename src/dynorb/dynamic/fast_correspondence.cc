@@ -24,10 +24,12 @@ void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vec
                     const std::vector<cv::Point2f>& current, const LkOptions& options,
                     std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
   const cv::Size window(options.window_px, options.window_px);
+  const int base_side = options.base_window_px > 0 ? options.base_window_px : options.window_px;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
   const std::vector<cv::Point2f> guess = *previous;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, *previous, *status, error, window, 0, criteria,
+  cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, *previous, *status, error,
+                           cv::Size(base_side, base_side), 0, criteria,
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   // A point stuck near its guess (no gradient towards the true position) ends there with a
   // residual far above what converged points have: the gate is 3x the median residual.

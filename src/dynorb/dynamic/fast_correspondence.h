@@ -36,6 +36,7 @@ struct LkOptions {
   // others (and failures) are tracked again through the whole pyramid from the guess. 0: the
   // whole pyramid for every point.
   double base_first_px = 0.0;
+  int base_window_px = 0;  // window of that base-image pass (0: window_px)
   // Levels above the base image of the backward check (< 0 or > levels: all `levels`). It starts
   // from the point's current position, the right answer whenever the forward track was right.
   int backward_levels = -1;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -75,10 +76,17 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
   }
 }
 
-// Base image first: from a good guess the base-level pass gives the whole pyramid's answer; a
-// guess far off (a mover the prediction does not know: the right third of the points here) is
-// tracked again through the pyramid, also where the base level got stuck near the guess.
-TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
+// A textured image pair shifted by (3, 1) px, and one guess per point: 0.5 px off for most, far
+// off (a mover the prediction does not know) for the right third of the points.
+struct BaseFirstScene {
+  std::vector<cv::Mat> prev_pyr, cur_pyr;
+  std::vector<cv::Point2f> points, guess;
+  std::vector<bool> bad;
+  LkOptions pyramid_only;
+};
+
+BaseFirstScene MakeBaseFirstScene() {
+  BaseFirstScene s;
   cv::Mat noise(240, 320, CV_8U);
   cv::RNG rng(20261203);
   rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
@@ -100,27 +108,34 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
     current(patch).convertTo(faint, CV_8U, 0.5, 64.0);
     faint.copyTo(previous(decoy));
   }
-  LkOptions pyramid_only;
-  pyramid_only.backward_check = false;
-  const std::vector<cv::Mat> prev_pyr = BuildLkPyramid(previous, pyramid_only),
-                             cur_pyr = BuildLkPyramid(current, pyramid_only);
-  std::vector<cv::Point2f> points, guess;
-  std::vector<bool> bad;
+  s.pyramid_only.backward_check = false;
+  s.prev_pyr = BuildLkPyramid(previous, s.pyramid_only);
+  s.cur_pyr = BuildLkPyramid(current, s.pyramid_only);
   for (int y = 100; y < 380; y += 20) {
     for (int x = 100; x < 540; x += 20) {
-      points.emplace_back(static_cast<float>(x), static_cast<float>(y));
-      bad.push_back(x >= 400);
-      guess.push_back(points.back() - cv::Point2f(3.f, 1.f) +
-                      (bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
+      s.points.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      s.bad.push_back(x >= 400);
+      s.guess.push_back(s.points.back() - cv::Point2f(3.f, 1.f) +
+                        (s.bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
     }
   }
-  LkOptions base_first = pyramid_only;
+  return s;
+}
+
+// Base image first: from a good guess the base-level pass gives the whole pyramid's answer; a
+// guess far off is tracked again through the pyramid, also where the base level got stuck near
+// the guess.
+TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
+  const BaseFirstScene s = MakeBaseFirstScene();
+  const std::vector<cv::Point2f>& points = s.points;
+  LkOptions base_first = s.pyramid_only;
   base_first.base_first_px = 1.0;
-  LkOptions base_only = pyramid_only;
+  LkOptions base_only = s.pyramid_only;
   base_only.levels = 0;
-  const Correspondences full = TrackWithFlow(prev_pyr, cur_pyr, points, guess, pyramid_only);
-  const Correspondences fast = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_first);
-  const Correspondences base = TrackWithFlow(prev_pyr, cur_pyr, points, guess, base_only);
+  const Correspondences full =
+      TrackWithFlow(s.prev_pyr, s.cur_pyr, points, s.guess, s.pyramid_only);
+  const Correspondences fast = TrackWithFlow(s.prev_pyr, s.cur_pyr, points, s.guess, base_first);
+  const Correspondences base = TrackWithFlow(s.prev_pyr, s.cur_pyr, points, s.guess, base_only);
   ASSERT_EQ(fast.num_valid, full.num_valid);
   int num_bad = 0, base_wrong = 0, base_stuck = 0, right = 0;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -131,18 +146,48 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
     EXPECT_NEAR(fast.previous[i].y, full.previous[i].y, 0.02f) << i;
     const cv::Point2f truth = points[i] - cv::Point2f(3.f, 1.f);
     const cv::Point2f e = full.previous[i] - truth, b = base.previous[i] - full.previous[i];
-    const cv::Point2f g = base.previous[i] - guess[i];
+    const cv::Point2f g = base.previous[i] - s.guess[i];
     right += std::hypot(e.x, e.y) < 0.1f;
-    num_bad += bad[i];
-    base_wrong += bad[i] && (!base.valid[i] || std::hypot(b.x, b.y) > 0.1f);
+    num_bad += s.bad[i];
+    base_wrong += s.bad[i] && (!base.valid[i] || std::hypot(b.x, b.y) > 0.1f);
     base_stuck +=
-        bad[i] && base.valid[i] && std::hypot(g.x, g.y) <= 1.f && std::hypot(b.x, b.y) > 0.5f;
+        s.bad[i] && base.valid[i] && std::hypot(g.x, g.y) <= 1.f && std::hypot(b.x, b.y) > 0.5f;
   }
   EXPECT_GT(right, static_cast<int>(points.size()) * 9 / 10);  // the pyramid finds the shift
   // The base level alone does not bridge many of the bad guesses: the retracking finds them.
   EXPECT_GT(base_wrong, num_bad / 4);
   // At the decoys it stops within base_first_px of the guess: only its residual sends it back.
   EXPECT_GE(base_stuck, 1);
+}
+
+// The base-image pass with a smaller window (lk_base_window_px: 11, a quarter of the 21 px
+// window's pixels): the good guesses converge to the same answer, the bad ones (decoys included)
+// are still sent to the retrack, which runs with the full window.
+TEST(LkFlow, ASmallerBaseWindowGivesTheFullWindowsTracks) {
+  const BaseFirstScene s = MakeBaseFirstScene();
+  LkOptions base_first = s.pyramid_only;
+  base_first.base_first_px = 1.0;
+  LkOptions small = base_first;
+  small.base_window_px = 11;
+  const Correspondences reference =
+      TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, base_first);
+  const Correspondences c = TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, small);
+  ASSERT_EQ(c.num_valid, reference.num_valid);
+  int right = 0;
+  float max_difference = 0.f;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    ASSERT_EQ(c.valid[i], reference.valid[i]) << i;
+    if (!c.valid[i]) continue;
+    const cv::Point2f d = c.previous[i] - reference.previous[i];
+    max_difference = std::max(max_difference, std::hypot(d.x, d.y));
+    EXPECT_NEAR(c.previous[i].x, reference.previous[i].x, 0.05f) << i;
+    EXPECT_NEAR(c.previous[i].y, reference.previous[i].y, 0.05f) << i;
+    const cv::Point2f e = c.previous[i] - (s.points[i] - cv::Point2f(3.f, 1.f));
+    right += std::hypot(e.x, e.y) < 0.1f;
+  }
+  EXPECT_GT(right, static_cast<int>(s.points.size()) * 9 / 10);
+  // The small window did run: its sub-pixel answers are not bit-identical to the 21 px window's.
+  EXPECT_GT(max_difference, 1e-4f) << max_difference;
 }
 
 TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {

@@ -35,6 +35,7 @@ LkOptions LkFromOptions(const FastOptions& options) {
   lk.fb_max_px = options.lk_fb_max_px;
   lk.backward_check = !options.lk_fb_candidates_only;
   lk.base_first_px = options.lk_base_first_px;
+  lk.base_window_px = options.lk_base_window_px;
   lk.backward_levels = options.lk_fb_levels;
   return lk;
 }
@@ -99,6 +100,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   previous_points_ = w.p2;
   previous_history_ = std::move(w.history);
   previous_depth_ = w.depth.clone();
+  previous_mask_ = w.final_mask.empty() ? cv::Mat() : w.final_mask.clone();
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
@@ -151,8 +153,11 @@ void FastFilter::EstimateMotion(FrameWork* w) {
   ego_options.refine = options_.refine_ego_motion;
   ego_options.seed_rigidity_ratio = options_.ego_rigidity_ratio;
   ego_options.max_depth_m = w->max_depth;
-  w->ego = EstimateEgoMotion(camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
-                             ego_options);
+  const cv::Mat no_mask;
+  w->ego =
+      EstimateEgoMotionWithPrior(camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
+                                 options_.ego_skip_previous_mask ? previous_mask_ : no_mask,
+                                 options_.ego_skip_max_fraction, ego_options);
   info_.ego_ok = w->ego.ok;
   info_.ego_seed = w->ego.seed_index;
   if (w->ego.ok) {

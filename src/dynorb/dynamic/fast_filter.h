@@ -118,6 +118,7 @@ class FastFilter : public KeypointFilter {
   std::vector<uint16_t> previous_history_;
   cv::Mat previous_descriptors_;
   cv::Mat previous_depth_;
+  cv::Mat previous_mask_;  // the previous frame's dynamic regions (empty: none)
   SuspectMap suspect_;
   std::optional<Rigid3d> own_prev_from_cur_;  // last ego-motion (constant-velocity seed)
   // Diagnostics.

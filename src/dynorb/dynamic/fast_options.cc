@@ -20,7 +20,12 @@ void FastOptions::Validate() const {
   Require(bf_max_distance >= 0 && bf_max_distance <= 256, "bf_max_distance must be in [0, 256]");
   Require(lk_max_points >= 0, "lk_max_points must be >= 0 (0: all)");
   Require(lk_base_first_px >= 0.0, "lk_base_first_px must be >= 0 (0: off)");
+  Require(lk_base_window_px == 0 || (lk_base_window_px >= 5 && lk_base_window_px % 2 == 1 &&
+                                     lk_base_window_px <= lk_window_px),
+          "lk_base_window_px must be 0 (lk_window_px) or odd, >= 5 and <= lk_window_px");
   Require(lk_fb_levels >= 0, "lk_fb_levels must be >= 0");
+  Require(ego_skip_max_fraction >= 0.0 && ego_skip_max_fraction <= 1.0,
+          "ego_skip_max_fraction must be in [0, 1]");
   Require(ego_rigidity_ratio == 0.0 || ego_rigidity_ratio >= 1.0, "ego_rigidity_ratio must be 0 (off) or >= 1");
   Require(bf_max_ratio > 0.0 && bf_max_ratio <= 1.0, "bf_max_ratio must be in (0, 1]");
   Require(residual_mismatch_px > 0.0, "residual_mismatch_px must be > 0");

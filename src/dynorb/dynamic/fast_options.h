@@ -29,6 +29,8 @@ struct FastOptions {
   double lk_base_first_px = 1.0;         // > 0 (with a prediction): LK on the base image first;
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
+  int lk_base_window_px = 11;            // LK window of that first base-image pass (0: lk_window_px;
+                                         // session 17: 11 instead of 21, about a third of the cost)
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
   int bf_max_distance = 80;              // descriptors: max Hamming distance of a match
   double bf_max_ratio = 0.8;             // descriptors: Lowe ratio best/second best (1: no test)
@@ -51,6 +53,9 @@ struct FastOptions {
   // --- Beyond the report: rigid-warp residual against the (refined) camera motion.
   bool use_residual = true;           // ego-motion residual cue on/off
   bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
+  bool ego_skip_previous_mask = true;  // points whose previous position lies in the previous
+                                       // frame's dynamic regions do not vote for the ego-motion ...
+  double ego_skip_max_fraction = 0.6;  // ... unless they are more than this fraction of the tracks
   double ego_rigidity_ratio = 1.5;    // a prediction also wins when every hypothesis covering more
                                       // fits this many times more loosely (0: off)
   double residual_px = 1.2;           // reprojection residual above this: moving

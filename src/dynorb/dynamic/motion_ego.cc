@@ -167,6 +167,22 @@ struct Problem {
 
 }  // namespace
 
+std::vector<uint8_t> EgoMotionVoters(const std::vector<uint8_t>& valid,
+                                     const std::vector<cv::Point2f>& p1,
+                                     const cv::Mat& previous_mask, double max_fraction) {
+  std::vector<uint8_t> voters = valid;
+  if (previous_mask.empty()) return voters;
+  int tracked = 0, skipped = 0;
+  for (size_t i = 0; i < voters.size(); ++i) {
+    if (!voters[i]) continue;
+    ++tracked;
+    const int x = std::clamp(static_cast<int>(std::lround(p1[i].x)), 0, previous_mask.cols - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(p1[i].y)), 0, previous_mask.rows - 1);
+    if (previous_mask.at<uint8_t>(y, x)) voters[i] = 0, ++skipped;
+  }
+  return skipped > max_fraction * tracked ? valid : voters;
+}
+
 EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
                                   const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid,
                                   const cv::Mat& depth_cur, const std::vector<Rigid3d>& seeds_prev_from_cur,
@@ -308,6 +324,23 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   result.num_inliers = chosen->inliers;
   result.coverage = chosen->coverage;
   return result;
+}
+
+EgoMotionResult EstimateEgoMotionWithPrior(
+    const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
+    const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid, const cv::Mat& depth_cur,
+    const std::vector<Rigid3d>& seeds_prev_from_cur, const cv::Mat& previous_mask,
+    double max_fraction, const EgoMotionOptions& options) {
+  const EgoMotionResult all =
+      EstimateEgoMotion(camera, p1, p2, valid, depth_cur, seeds_prev_from_cur, options);
+  if (!all.ok || all.seed_index >= 0 || seeds_prev_from_cur.empty() || previous_mask.empty()) {
+    return all;
+  }
+  const std::vector<uint8_t> voters = EgoMotionVoters(valid, p1, previous_mask, max_fraction);
+  if (voters == valid) return all;
+  const EgoMotionResult again =
+      EstimateEgoMotion(camera, p1, p2, voters, depth_cur, seeds_prev_from_cur, options);
+  return again.ok && again.seed_index >= 0 ? again : all;
 }
 
 }  // namespace dynorb

@@ -77,9 +77,29 @@ struct EgoMotionResult {
   double gate_px = 0.0;   // the common gate the hypotheses were scored at (px)
 };
 
+// The tracked points that vote for the ego-motion: valid[i] != 0 and p1[i] (the point's position
+// in the previous frame) outside previous_mask (the previous frame's dynamic regions, CV_8U; empty:
+// none). A mover that fills much of the view fits a rigid motion of its own and can win the
+// coverage vote; the last frame already found it. When more than max_fraction of the valid points
+// would be left out, the previous regions are suspect themselves: all valid points vote.
+std::vector<uint8_t> EgoMotionVoters(const std::vector<uint8_t>& valid,
+                                     const std::vector<cv::Point2f>& p1,
+                                     const cv::Mat& previous_mask, double max_fraction);
+
 EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
                                   const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid,
                                   const cv::Mat& depth_cur, const std::vector<Rigid3d>& seeds_prev_from_cur,
                                   const EgoMotionOptions& options);
+
+// EstimateEgoMotion with the previous frame's dynamic regions as a prior: when a hypothesis other
+// than a prediction wins (the prediction was outvoted), the vote is repeated without the points
+// in previous_mask (EgoMotionVoters); if a prediction wins that vote, it is the result. A mover
+// that fills much of the view, found by the previous frame, cannot capture the estimate; the
+// prior is not used when the prediction wins anyway (a wrong previous region cannot hold).
+EgoMotionResult EstimateEgoMotionWithPrior(
+    const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
+    const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid, const cv::Mat& depth_cur,
+    const std::vector<Rigid3d>& seeds_prev_from_cur, const cv::Mat& previous_mask,
+    double max_fraction, const EgoMotionOptions& options);
 
 }  // namespace dynorb
