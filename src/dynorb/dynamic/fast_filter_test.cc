@@ -196,8 +196,8 @@ TEST(FastFilter, FirstFrameKeepsEverythingAndOptionsValidate) {
   bad = FastOptions();
   bad.epi_t2_px = 0.5;
   EXPECT_ANY_THROW(bad.Validate());
-  FastOptions
-      window;  // The base-image window: odd, >= 5, not above lk_window_px; 0 = lk_window_px.
+  // The base-image window: odd, >= 5, not above lk_window_px; 0 = lk_window_px.
+  FastOptions window;
   for (int px : {0, 5, 11, 21}) {
     window.lk_base_window_px = px;
     EXPECT_NO_THROW(window.Validate()) << px;

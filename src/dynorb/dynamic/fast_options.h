@@ -30,7 +30,7 @@ struct FastOptions {
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
   int lk_base_window_px = 11;            // LK window of that first base-image pass (0: lk_window_px;
-                                         // session 17: 11 instead of 21, about a third of the cost)
+                                         // session 17: 11 px, a quarter of the 21 px window's area)
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
   int bf_max_distance = 80;              // descriptors: max Hamming distance of a match
   double bf_max_ratio = 0.8;             // descriptors: Lowe ratio best/second best (1: no test)
