@@ -63,6 +63,9 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("use_residual", &o.use_residual, "rigid-warp residual cue (ego-motion + depth)")
       .Add("refine_ego_motion", &o.refine_ego_motion,
            "refine the motion-model prediction on tracked points")
+      .Add("ego_skip_search_gate_px", &o.ego_skip_search_gate_px,
+           "ego-motion: a prediction covering 60 % of the image at a scoring gate of at most this "
+           "(px) skips the camera-at-rest and RANSAC hypotheses")
       .Add("ego_rigidity_ratio", &o.ego_rigidity_ratio,
            "ego-motion: a prediction also wins when every hypothesis covering more of the image fits this "
            "many times more loosely (a walking person fits a rigid motion loosely; 0: off)")

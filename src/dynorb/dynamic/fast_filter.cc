@@ -152,6 +152,7 @@ void FastFilter::EstimateMotion(FrameWork* w) {
   EgoMotionOptions ego_options;
   ego_options.refine = options_.refine_ego_motion;
   ego_options.seed_rigidity_ratio = options_.ego_rigidity_ratio;
+  ego_options.skip_search_gate_px = options_.ego_skip_search_gate_px;
   ego_options.max_depth_m = w->max_depth;
   const cv::Mat no_mask;
   w->ego =

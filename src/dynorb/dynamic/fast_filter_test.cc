@@ -206,6 +206,11 @@ TEST(FastFilter, FirstFrameKeepsEverythingAndOptionsValidate) {
     window.lk_base_window_px = px;
     EXPECT_ANY_THROW(window.Validate()) << px;
   }
+  FastOptions gate;
+  gate.ego_skip_search_gate_px = -0.1;
+  EXPECT_ANY_THROW(gate.Validate());
+  gate.ego_skip_search_gate_px = 0.0;  // always search
+  EXPECT_NO_THROW(gate.Validate());
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ void FastOptions::Validate() const {
   Require(lk_fb_levels >= 0, "lk_fb_levels must be >= 0");
   Require(ego_skip_max_fraction >= 0.0 && ego_skip_max_fraction <= 1.0,
           "ego_skip_max_fraction must be in [0, 1]");
+  Require(ego_skip_search_gate_px >= 0.0, "ego_skip_search_gate_px must be >= 0");
   Require(ego_rigidity_ratio == 0.0 || ego_rigidity_ratio >= 1.0, "ego_rigidity_ratio must be 0 (off) or >= 1");
   Require(bf_max_ratio > 0.0 && bf_max_ratio <= 1.0, "bf_max_ratio must be in (0, 1]");
   Require(residual_mismatch_px > 0.0, "residual_mismatch_px must be > 0");

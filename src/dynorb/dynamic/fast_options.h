@@ -56,6 +56,8 @@ struct FastOptions {
   bool ego_skip_previous_mask = true;  // points whose previous position lies in the previous
                                        // frame's dynamic regions do not vote for the ego-motion ...
   double ego_skip_max_fraction = 0.6;  // ... unless they are more than this fraction of the tracks
+  double ego_skip_search_gate_px = 0.8;  // a prediction covering 60 % of the image at a scoring
+                                         // gate at most this (px): no identity/RANSAC search
   double ego_rigidity_ratio = 1.5;    // a prediction also wins when every hypothesis covering more
                                       // fits this many times more loosely (0: off)
   double residual_px = 1.2;           // reprojection residual above this: moving

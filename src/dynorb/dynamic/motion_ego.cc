@@ -266,10 +266,12 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
     if (!duplicate) refine_seed(start, s);
   }
   score_all();
-  // A prediction that fits to the noise floor (3 sigmas within min_gate_px) and covers
-  // skip_search_coverage of the cells there needs no search (on real, noisier data the spread is
-  // larger and the search always runs).
-  if (best_coverage < options.skip_search_coverage || score_gate > options.min_gate_px) {
+  // A prediction that fits to the noise floor (3 sigmas within skip_search_gate_px) and covers
+  // skip_search_coverage of the cells there needs no search (on real, noisier data the spread may
+  // be larger and the search runs).
+  const bool search =
+      best_coverage < options.skip_search_coverage || score_gate > options.skip_search_gate_px;
+  if (search) {
     if (options.try_identity) refine_seed(Rigid3d(), identity_seed);
     std::vector<uint8_t> use(problem.object.size(), 1);
     for (int r = 0; r < 2; ++r) {
@@ -323,6 +325,7 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   result.prev_from_cur = chosen->pose;
   result.num_inliers = chosen->inliers;
   result.coverage = chosen->coverage;
+  result.searched = search;
   return result;
 }
 

@@ -169,6 +169,63 @@ TEST(EgoMotion, AMoreRigidPredictionWinsOverALargerLooselyFittingMover) {
   EXPECT_GT(MotionError(captured, truth), 0.02);
 }
 
+// A static scene at 4 m, 4 tracked points in each of the 48 coverage cells, LK noise noise_px per
+// axis, seen from a camera that moved by kDominantTruth.
+DominantMoverScene MakeStaticScene(const PinholeCamera& camera, float noise_px) {
+  DominantMoverScene scene;
+  scene.depth = cv::Mat(camera.height, camera.width, CV_32F, cv::Scalar(4.f));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> within(12.f, 68.f);
+  std::normal_distribution<float> noise(0.f, noise_px);
+  for (int cell = 0; cell < 48; ++cell) {
+    for (int k = 0; k < 4; ++k) {
+      const cv::Point2f cur(80.f * (cell % 8) + within(rng), 80.f * (cell / 8) + within(rng));
+      scene.p1.push_back(WarpToPrevious(camera, kDominantTruth, cur, 4.0) +
+                         cv::Point2f(noise(rng), noise(rng)));
+      scene.p2.push_back(cur);
+      scene.valid.push_back(1);
+    }
+  }
+  return scene;
+}
+
+// A correct prediction over a static scene with the tracking noise of the 11 px LK window
+// (0.12 px per axis: scoring gate 0.5-0.8 px) needs no search at the default skip gate (0.8 px);
+// the 0.5 px gate of before searched and came to the same pose. A prediction 10 cm off (13 px at
+// 4 m: beyond the first refinement gate) fits nothing: the search runs at either skip gate and
+// finds the true motion.
+TEST(EgoMotion, APredictionFittingTheNoiseFloorSkipsTheSearch) {
+  const PinholeCamera camera = FastTestCamera();
+  const DominantMoverScene scene = MakeStaticScene(camera, 0.12f);
+  EgoMotionOptions old_gate;
+  old_gate.skip_search_gate_px = 0.5;
+  const EgoMotionResult skipped = EstimateInScene(camera, scene, EgoMotionOptions());
+  const EgoMotionResult searched = EstimateInScene(camera, scene, old_gate);
+  ASSERT_TRUE(skipped.ok);
+  ASSERT_TRUE(searched.ok);
+  EXPECT_GT(skipped.gate_px, 0.5);
+  EXPECT_LE(skipped.gate_px, 0.8);
+  EXPECT_FALSE(skipped.searched);
+  EXPECT_TRUE(searched.searched);
+  EXPECT_EQ(skipped.seed_index, 0);
+  EXPECT_EQ(searched.seed_index, 0);
+  EXPECT_LT(MotionError(skipped, kDominantTruth), 2e-3);
+  EXPECT_LT(MotionError(skipped, searched.prev_from_cur), 1e-9);
+  // Less noise: no search at either gate.
+  const DominantMoverScene quiet = MakeStaticScene(camera, 0.05f);
+  EXPECT_FALSE(EstimateInScene(camera, quiet, old_gate).searched);
+  // A wrong prediction: searched, and the prediction loses.
+  const Rigid3d wrong(Eigen::Quaterniond::Identity(),
+                      kDominantTruth.translation + Eigen::Vector3d(0.1, 0.0, 0.0));
+  for (const EgoMotionOptions& options : {EgoMotionOptions(), old_gate}) {
+    const EgoMotionResult ego =
+        EstimateEgoMotion(camera, scene.p1, scene.p2, scene.valid, scene.depth, {wrong}, options);
+    ASSERT_TRUE(ego.ok);
+    EXPECT_TRUE(ego.searched);
+    EXPECT_LT(MotionError(ego, kDominantTruth), 2e-3);
+  }
+}
+
 // The dominant-mover scene judged by coverage alone (no rigidity rule; the person fits 0.2 px,
 // the background 0.1 px): the person, over 30 of the 48 cells, wins. The previous frame found the
 // person (its dynamic regions hold the person's previous positions): without those points the
