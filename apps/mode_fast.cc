@@ -66,6 +66,9 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("ego_skip_search_gate_px", &o.ego_skip_search_gate_px,
            "ego-motion: a prediction covering 60 % of the image at a scoring gate of at most this "
            "(px) skips the camera-at-rest and RANSAC hypotheses")
+      .Add("ego_abandon_duplicates", &o.ego_abandon_duplicates,
+           "ego-motion: a prediction whose first refit lands within 2 mm / 1 mrad of a refined "
+           "hypothesis is dropped (it would refine to the same pose)")
       .Add("ego_rigidity_ratio", &o.ego_rigidity_ratio,
            "ego-motion: a prediction also wins when every hypothesis covering more of the image fits this "
            "many times more loosely (a walking person fits a rigid motion loosely; 0: off)")

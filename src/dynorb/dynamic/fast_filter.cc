@@ -153,6 +153,7 @@ void FastFilter::EstimateMotion(FrameWork* w) {
   ego_options.refine = options_.refine_ego_motion;
   ego_options.seed_rigidity_ratio = options_.ego_rigidity_ratio;
   ego_options.skip_search_gate_px = options_.ego_skip_search_gate_px;
+  ego_options.abandon_duplicate_predictions = options_.ego_abandon_duplicates;
   ego_options.max_depth_m = w->max_depth;
   const cv::Mat no_mask;
   w->ego =

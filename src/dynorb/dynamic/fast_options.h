@@ -58,6 +58,8 @@ struct FastOptions {
   double ego_skip_max_fraction = 0.6;  // ... unless they are more than this fraction of the tracks
   double ego_skip_search_gate_px = 0.8;  // a prediction covering 60 % of the image at a scoring
                                          // gate at most this (px): no identity/RANSAC search
+  bool ego_abandon_duplicates = true;    // a prediction whose first refit lands within 2 mm /
+                                         // 1 mrad of a refined one is not refined further
   double ego_rigidity_ratio = 1.5;    // a prediction also wins when every hypothesis covering more
                                       // fits this many times more loosely (0: off)
   double residual_px = 1.2;           // reprojection residual above this: moving

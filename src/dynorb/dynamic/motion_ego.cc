@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -123,17 +124,21 @@ struct Problem {
   }
 
   // Shrinking-gate refinement, then the adaptive gate; false when too few points support the
-  // estimate. *sigma: the final spread.
-  bool Refine(Rigid3d* pose, int* inliers, double* sigma) const {
+  // estimate, or when `abandon` (if set) is true for the pose after the first gate's refit.
+  // *sigma: the final spread.
+  bool Refine(Rigid3d* pose, int* inliers, double* sigma,
+              const std::function<bool(const Rigid3d&)>& abandon = {}) const {
     *inliers = 0;
     double last_gate = options->ransac_px;
     bool shrunk = true;
     std::vector<uint8_t> last_selection;
-    for (double gate : options->gates_px) {
+    for (size_t g = 0; g < options->gates_px.size(); ++g) {
+      const double gate = options->gates_px[g];
       if (!Refit(gate, pose, inliers, &last_selection)) {
         shrunk = false;
         break;
       }
+      if (g == 0 && abandon && abandon(*pose)) return false;
       last_gate = gate;
     }
     if (*inliers == 0) return false;
@@ -230,11 +235,20 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   std::vector<Hypothesis> hypotheses;
   const int num_predictions = static_cast<int>(seeds_prev_from_cur.size());
   const int identity_seed = options.try_identity ? num_predictions : -1;
-  auto refine_seed = [&](const Rigid3d& start, int seed) {
+  // Is `pose` within duplicate_seed_m / duplicate_seed_rad of a hypothesis refined already?
+  auto near_refined = [&](const Rigid3d& pose) {
+    return std::any_of(hypotheses.begin(), hypotheses.end(), [&](const Hypothesis& h) {
+      return (h.pose.translation - pose.translation).norm() < options.duplicate_seed_m &&
+             RotationAngleRad(h.pose.rotation * pose.rotation.conjugate()) <
+                 options.duplicate_seed_rad;
+    });
+  };
+  auto refine_seed = [&](const Rigid3d& start, int seed,
+                         const std::function<bool(const Rigid3d&)>& abandon = {}) {
     Hypothesis h;
     h.pose = start;
     h.seed = seed;
-    if (problem.Refine(&h.pose, &h.inliers, &h.sigma)) hypotheses.push_back(h);
+    if (problem.Refine(&h.pose, &h.inliers, &h.sigma, abandon)) hypotheses.push_back(h);
   };
   // Scores every hypothesis at one gate: the best-fitting hypothesis sets the noise level.
   double score_gate = wide_gate, best_coverage = 0.0;
@@ -257,13 +271,15 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   };
   for (int s = 0; s < num_predictions; ++s) {
     // A prediction next to one already refined (the tracker's and the filter's own
-    // constant-velocity models usually agree) would refine to the same pose.
+    // constant-velocity models usually agree) would refine to the same pose; so would one that
+    // lands next to it after its first refit (abandon_duplicate_predictions).
     const Rigid3d& start = seeds_prev_from_cur[s];
-    const bool duplicate = std::any_of(hypotheses.begin(), hypotheses.end(), [&](const Hypothesis& h) {
-      return (h.pose.translation - start.translation).norm() < options.duplicate_seed_m &&
-             RotationAngleRad(h.pose.rotation * start.rotation.conjugate()) < options.duplicate_seed_rad;
-    });
-    if (!duplicate) refine_seed(start, s);
+    if (near_refined(start)) continue;
+    if (options.abandon_duplicate_predictions) {
+      refine_seed(start, s, near_refined);
+    } else {
+      refine_seed(start, s);
+    }
   }
   score_all();
   // A prediction that fits to the noise floor (3 sigmas within skip_search_gate_px) and covers
@@ -326,6 +342,7 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
   result.num_inliers = chosen->inliers;
   result.coverage = chosen->coverage;
   result.searched = search;
+  result.hypotheses = static_cast<int>(hypotheses.size());
   return result;
 }
 

@@ -70,6 +70,7 @@ struct EgoMotionOptions {
   double skip_search_gate_px = 0.8;   // ... at a scoring gate of at most this (px): no search
   double duplicate_seed_m = 0.002;    // a prediction this close to a refined one is not refined again
   double duplicate_seed_rad = 0.001;  // (translation and rotation)
+  bool abandon_duplicate_predictions = true;  // ... nor refined on when its first refit lands there
 };
 
 struct EgoMotionResult {
@@ -81,6 +82,7 @@ struct EgoMotionResult {
   double sigma_px = 0.0;  // robust spread of the inliers' residuals (px)
   double gate_px = 0.0;   // the common gate the hypotheses were scored at (px)
   bool searched = false;  // the camera-at-rest and RANSAC hypotheses were tried
+  int hypotheses = 0;     // hypotheses refined to the end and voted on
 };
 
 // The tracked points that vote for the ego-motion: valid[i] != 0 and p1[i] (the point's position

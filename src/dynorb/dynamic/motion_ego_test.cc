@@ -226,6 +226,41 @@ TEST(EgoMotion, APredictionFittingTheNoiseFloorSkipsTheSearch) {
   }
 }
 
+// Two predictions 1 cm apart (beyond duplicate_seed_m: both are refined at first) over a static
+// scene: the second lands on the first's pose after its first refit and is dropped, with the same
+// result as when it is refined to the end. Predictions of two different motions (the background's
+// and the person's in the dominant-mover scene) are both refined to the end.
+TEST(EgoMotion, APredictionLandingOnARefinedOneIsDropped) {
+  const PinholeCamera camera = FastTestCamera();
+  const DominantMoverScene scene = MakeStaticScene(camera, 0.05f);
+  const Rigid3d off_a(kDominantTruth.rotation,
+                      kDominantTruth.translation + Eigen::Vector3d(0.005, 0.0, 0.0));
+  const Rigid3d off_b(kDominantTruth.rotation,
+                      kDominantTruth.translation - Eigen::Vector3d(0.005, 0.0, 0.0));
+  EgoMotionOptions keep_all;
+  keep_all.abandon_duplicate_predictions = false;
+  const EgoMotionResult dropped = EstimateEgoMotion(
+      camera, scene.p1, scene.p2, scene.valid, scene.depth, {off_a, off_b}, EgoMotionOptions());
+  const EgoMotionResult kept = EstimateEgoMotion(camera, scene.p1, scene.p2, scene.valid,
+                                                 scene.depth, {off_a, off_b}, keep_all);
+  ASSERT_TRUE(dropped.ok);
+  ASSERT_TRUE(kept.ok);
+  EXPECT_FALSE(dropped.searched);
+  EXPECT_EQ(dropped.hypotheses, 1);
+  EXPECT_EQ(kept.hypotheses, 2);
+  EXPECT_EQ(dropped.seed_index, 0);
+  EXPECT_EQ(kept.seed_index, 0);
+  EXPECT_LT(MotionError(dropped, kDominantTruth), 1e-3);
+  EXPECT_LT(MotionError(dropped, kept.prev_from_cur), 1e-6);
+  // Two motions: nothing is dropped.
+  const DominantMoverScene movers = MakeDominantMoverScene(camera, 0.05f, 0.05f);
+  const EgoMotionResult both =
+      EstimateEgoMotion(camera, movers.p1, movers.p2, movers.valid, movers.depth,
+                        {kDominantTruth, kDominantPerson}, EgoMotionOptions());
+  ASSERT_TRUE(both.ok);
+  EXPECT_GE(both.hypotheses, 2);
+}
+
 // The dominant-mover scene judged by coverage alone (no rigidity rule; the person fits 0.2 px,
 // the background 0.1 px): the person, over 30 of the 48 cells, wins. The previous frame found the
 // person (its dynamic regions hold the person's previous positions): without those points the
