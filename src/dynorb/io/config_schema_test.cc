@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
 
 namespace dynorb {
 namespace {
@@ -35,15 +36,7 @@ void Bind(DetectorOptions* d, ConfigSchema* schema, int* validated) {
       });
 }
 
-template <typename Fn>
-void ExpectInputError(Fn&& fn, const std::string& needle) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing: " << needle;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+using testing::ExpectInputError;
 
 TEST(ConfigSchema, ModuleSectionLoadsAllTypes) {
   DetectorOptions d;

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
 #include "dynorb/io/test_temp_dir.h"
 
 namespace dynorb {
@@ -13,16 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <typename Fn>
-void ExpectInputError(Fn&& fn, const std::string& needle) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing: " << needle;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
-        << "message: " << e.what() << "\nexpected to contain: " << needle;
-  }
-}
+using testing::ExpectInputError;
 
 void ExpectSameCamera(const PinholeCamera& a, const PinholeCamera& b) {
   EXPECT_EQ(a.fx, b.fx);

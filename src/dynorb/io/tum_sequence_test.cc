@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
 #include "dynorb/io/rgbd_image_io.h"
 #include "dynorb/io/test_temp_dir.h"
 
@@ -16,17 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Expects `fn` to throw InputError whose message contains `needle`.
-template <typename Fn>
-void ExpectInputError(Fn&& fn, const std::string& needle) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing: " << needle;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
-        << "message: " << e.what() << "\nexpected to contain: " << needle;
-  }
-}
+using testing::ExpectInputError;
 
 class TumSequenceTest : public testing::TempDirTest {
  protected:
