@@ -269,17 +269,14 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
       best_inliers = std::max(best_inliers, h.inliers);
     }
   };
+  // A prediction next to one already refined (the tracker's and the filter's own
+  // constant-velocity models usually agree) would refine to the same pose; so would one that
+  // lands next to it after its first refit (abandon_duplicate_predictions).
+  const std::function<bool(const Rigid3d&)> abandon_prediction =
+      options.abandon_duplicate_predictions ? near_refined : std::function<bool(const Rigid3d&)>();
   for (int s = 0; s < num_predictions; ++s) {
-    // A prediction next to one already refined (the tracker's and the filter's own
-    // constant-velocity models usually agree) would refine to the same pose; so would one that
-    // lands next to it after its first refit (abandon_duplicate_predictions).
     const Rigid3d& start = seeds_prev_from_cur[s];
-    if (near_refined(start)) continue;
-    if (options.abandon_duplicate_predictions) {
-      refine_seed(start, s, near_refined);
-    } else {
-      refine_seed(start, s);
-    }
+    if (!near_refined(start)) refine_seed(start, s, abandon_prediction);
   }
   score_all();
   // A prediction that fits to the noise floor (3 sigmas within skip_search_gate_px) and covers
