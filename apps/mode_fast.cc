@@ -99,11 +99,17 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "min agreement of the seeds' own motions")
       .Add("region_max_area", &o.region_max_area, "max region area (fraction of the image)")
       .Add("region_dilate_px", &o.region_dilate_px, "dilation of the dynamic mask (px)")
+      .Add("region_octave_reach", &o.region_octave_reach,
+           "a keypoint of octave o is in a region when the mask is within 3*scale_factor^o - "
+           "region_dilate_px px (its FAST circle reaches past the dilation)")
       .Add("suspect_frames", &o.suspect_frames,
            "a dynamic region stays suspect this many frames (0: off)")
       .Add("suspect_depth_m", &o.suspect_depth_m, "suspect only where the depth still matches (m)")
       .Add("track_history", &o.track_history, "keypoint-track memory (frames)")
       .Add("track_min_moving", &o.track_min_moving, "a track seen moving this often is excluded")
+      .Add("refill_min_removed_fraction", &o.refill_min_removed_fraction,
+           "refill outside the regions on frames whose regions removed at least this fraction of "
+           "the keypoints (0: never)")
       .OnLoaded([this] { options_.Validate(); });
 }
 

@@ -49,11 +49,17 @@ FastFilter::FastFilter(const FastOptions& options, const PinholeCamera& camera,
       camera_(camera),
       extractor_(orb) {}
 
+bool FastFilter::MaskCoversDetections() const {
+  return options_.refill_min_removed_fraction > 0.0 && info_.num_regions > 0 &&
+         info_.num_removed >= options_.refill_min_removed_fraction * info_.num_keypoints;
+}
+
 FilterOutput FastFilter::Filter(const FilterInput& input) {
   Stopwatch total, watch;
   timing_ = FastTiming();
   info_ = FastFrameInfo();
   FrameWork w(input, options_);
+  info_.num_keypoints = static_cast<int>(w.n);
   FilterOutput out;
   out.keep.assign(w.n, true);
   cue_bits_.assign(w.n, 0);

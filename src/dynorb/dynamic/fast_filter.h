@@ -70,7 +70,7 @@ struct FastFrameInfo {
   int ego_seed = -1;           // index of the accepted motion seed (tracker first, own chain), -1: RANSAC (see motion_ego.h)
   bool f_ok = false;           // RANSAC F estimated
   bool f_replaced = false;     // F disagreed with the ego-motion and was replaced
-  int num_tracked = 0, num_seeds = 0, num_removed = 0, num_regions = 0;
+  int num_keypoints = 0, num_tracked = 0, num_seeds = 0, num_removed = 0, num_regions = 0;
 };
 
 class FastFilter : public KeypointFilter {
@@ -84,6 +84,9 @@ class FastFilter : public KeypointFilter {
   std::vector<std::pair<std::string, double>> StageTimings() const override;
   // One entry per FastCue bit except kCueTracked ("epipolar", "direction", ..., "region").
   std::vector<std::pair<std::string, std::vector<bool>>> CueFlags() const override;
+  // True after a frame whose grown regions removed at least
+  // FastOptions::refill_min_removed_fraction of its keypoints (never when that is 0).
+  bool MaskCoversDetections() const override;
   const FastTiming& timing() const { return timing_; }              // last frame
   const FastTiming& total_timing() const { return total_timing_; }  // sum over frames
   int frames() const { return frames_; }

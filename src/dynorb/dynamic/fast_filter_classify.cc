@@ -157,10 +157,27 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
     info_.num_regions = region.num_accepted;
     w->final_mask = region.mask;
   }
+  // How far a keypoint's FAST circle reaches beyond the dilated mask, per octave (0: not at all).
+  std::vector<float> octave_reach;
+  if (options_.region_octave_reach && region.num_accepted > 0) {
+    const double f = extractor_.options().scale_factor;
+    for (int o = 0; o < extractor_.options().n_levels; ++o) {
+      octave_reach.push_back(
+          static_cast<float>(std::max(0.0, 3.0 * std::pow(f, o) - options_.region_dilate_px)));
+    }
+  }
   for (size_t i = 0; i < n; ++i) {
     const int x = std::clamp(static_cast<int>(std::lround(p2[i].x)), 0, depth.cols - 1);
     const int y = std::clamp(static_cast<int>(std::lround(p2[i].y)), 0, depth.rows - 1);
-    if (!w->final_mask.empty() && w->final_mask.at<uint8_t>(y, x)) cue_bits_[i] |= kCueRegion;
+    if (!w->final_mask.empty()) {
+      const int octave = w->keypoints[i].octave;
+      if (w->final_mask.at<uint8_t>(y, x) ||
+          (octave > 0 && octave < static_cast<int>(octave_reach.size()) &&
+           octave_reach[octave] > 0.f &&
+           MaskWithinRadius(w->final_mask, p2[i], octave_reach[octave]))) {
+        cue_bits_[i] |= kCueRegion;
+      }
+    }
     if (!suspect_low.empty()) {
       const int s = options_.region_scale;
       const int lx = std::min(x / s, suspect_low.cols - 1),

@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/core/error.h"
+#include "dynorb/dynamic/fast_region.h"
 #include "dynorb/synth/synthesizer.h"
 
 namespace dynorb {
@@ -59,6 +62,10 @@ class FastFilterSequence : public ::testing::Test {
   struct Result {
     long long tp = 0, fp = 0, fn = 0;
     std::vector<std::vector<bool>> keep;
+    std::vector<std::vector<cv::KeyPoint>> keypoints;
+    std::vector<cv::Mat> masks;  // FilterOutput::dynamic_mask per frame
+    std::vector<FastFrameInfo> info;
+    std::vector<bool> covers;  // MaskCoversDetections() after each frame
     double precision() const { return tp + fp > 0 ? static_cast<double>(tp) / (tp + fp) : 0.0; }
     double recall() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 0.0; }
   };
@@ -84,6 +91,10 @@ class FastFilterSequence : public ::testing::Test {
       const FilterOutput out = filter.Filter(input);
       EXPECT_EQ(out.keep.size(), static_cast<size_t>(set.size()));
       result.keep.push_back(out.keep);
+      result.keypoints.push_back(set.keypoints);
+      result.masks.push_back(out.dynamic_mask);
+      result.info.push_back(filter.info());
+      result.covers.push_back(filter.MaskCoversDetections());
       if (i == 0) continue;
       if (std::getenv("FAST_DEBUG")) {
         int tt = 0, tr = 0, ts = 0, st = 0, sr = 0, ss = 0;
@@ -145,6 +156,72 @@ TEST_F(FastFilterSequence, FlowMeetsPrecisionRecallAndIsDeterministic) {
   EXPECT_GE(a.recall(), 0.6);
   const Result b = Run(FastOptions());
   EXPECT_EQ(a.keep, b.keep);
+}
+
+TEST_F(FastFilterSequence, OctaveReachAlsoRemovesCoarseCornersTouchingARegion) {
+  FastOptions options;
+  const Result off = Run(options);
+  options.region_octave_reach = true;
+  const Result on = Run(options);
+  ASSERT_EQ(off.keep.size(), on.keep.size());
+  const double f = OrbOptions().scale_factor;
+  int extra = 0;
+  for (size_t i = 0; i < on.keep.size(); ++i) {
+    ASSERT_EQ(off.keypoints[i].size(), on.keypoints[i].size());
+    for (size_t k = 0; k < on.keep[i].size(); ++k) {
+      // Only removals are added, and each added one is a coarse corner whose reach touches the
+      // (unchanged) region mask without its centre lying on it.
+      EXPECT_FALSE(on.keep[i][k] && !off.keep[i][k]) << "frame " << i << " keypoint " << k;
+      if (on.keep[i][k] || !off.keep[i][k]) continue;
+      ++extra;
+      const cv::KeyPoint& kp = on.keypoints[i][k];
+      ASSERT_GT(kp.octave, 0);
+      ASSERT_FALSE(on.masks[i].empty());
+      const float reach =
+          static_cast<float>(3.0 * std::pow(f, kp.octave) - options.region_dilate_px);
+      ASSERT_GT(reach, 0.f);
+      EXPECT_FALSE(MaskWithinRadius(on.masks[i], kp.pt, 0.f));
+      EXPECT_TRUE(MaskWithinRadius(on.masks[i], kp.pt, reach));
+    }
+    ASSERT_EQ(off.masks[i].empty(), on.masks[i].empty());
+    if (!off.masks[i].empty()) {
+      EXPECT_EQ(cv::countNonZero(off.masks[i] != on.masks[i]), 0);
+    }
+  }
+  EXPECT_GT(extra, 0) << "the clip's people should have coarse corners next to their regions";
+  std::printf("octave reach: %d more removals; tp %lld -> %lld, fp %lld -> %lld\n", extra, off.tp,
+              on.tp, off.fp, on.fp);
+}
+
+TEST_F(FastFilterSequence, MaskCoversDetectionsOnlyWhenRegionsRemovedEnough) {
+  FastOptions options;
+  const Result never = Run(options);  // refill_min_removed_fraction 0: never
+  for (bool covers : never.covers) EXPECT_FALSE(covers);
+  // A threshold between the clip's smallest and largest removed fraction (among frames with
+  // regions) must say yes on some frames and no on others, exactly where the fraction reaches it.
+  double lo = 1.0, hi = 0.0;
+  for (const FastFrameInfo& info : never.info) {
+    if (info.num_regions == 0) continue;
+    const double fraction = static_cast<double>(info.num_removed) / info.num_keypoints;
+    lo = std::min(lo, fraction), hi = std::max(hi, fraction);
+  }
+  ASSERT_LT(lo, hi) << "the clip should have frames with regions removing different fractions";
+  options.refill_min_removed_fraction = 0.5 * (lo + hi);
+  const Result some = Run(options);
+  EXPECT_EQ(some.keep, never.keep);  // the option only answers the System's question
+  int yes = 0, no = 0;
+  for (size_t i = 0; i < some.info.size(); ++i) {
+    const FastFrameInfo& info = some.info[i];
+    const bool expected =
+        info.num_regions > 0 &&
+        info.num_removed >= options.refill_min_removed_fraction * info.num_keypoints;
+    EXPECT_EQ(some.covers[i], expected) << "frame " << i;
+    (some.covers[i] ? yes : no)++;
+  }
+  EXPECT_GT(yes, 0);
+  EXPECT_GT(no, 0);
+  options.refill_min_removed_fraction = 1.5;
+  EXPECT_THROW(options.Validate(), InputError);
 }
 
 TEST_F(FastFilterSequence, DescriptorCorrespondencesWork) {

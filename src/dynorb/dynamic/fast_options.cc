@@ -53,6 +53,8 @@ void FastOptions::Validate() const {
   Require(suspect_frames >= 0 && suspect_frames <= 30, "suspect_frames must be in [0, 30]");
   Require(suspect_depth_m > 0.0, "suspect_depth_m must be > 0");
   Require(track_history >= 1 && track_history <= 16, "track_history must be in [1, 16]");
+  Require(refill_min_removed_fraction >= 0.0 && refill_min_removed_fraction <= 1.0,
+          "refill_min_removed_fraction must be in [0, 1] (0: never refill)");
   Require(track_min_moving >= 1, "track_min_moving must be >= 1 (larger than track_history disables it)");
 }
 

@@ -87,11 +87,22 @@ struct FastOptions {
   double region_min_coherence = 0.6;  // seeds of a region must move alike (|mean m| / mean |m|)
   double region_max_area = 0.8;       // max region area as a fraction of the image
   int region_dilate_px = 6;           // dilation of the final mask (full-resolution px)
+  // A keypoint of pyramid octave o also counts as in a region when its FAST circle (radius
+  // 3·scale_factor^o full-resolution px) reaches farther than the dilation and the undilated
+  // region lies within that radius: the corner is then partly the mover's outline. Checked as
+  // the dilated mask within 3·scale_factor^o − region_dilate_px px (octaves 5–7 by default).
+  bool region_octave_reach = false;
   // --- Temporal propagation.
   int suspect_frames = 5;             // a dynamic region stays suspect for this many frames
   double suspect_depth_m = 0.2;       // ... where the depth still matches the region's depth
   int track_history = 8;              // keypoint-track memory (frames)
   int track_min_moving = 3;           // a track seen moving this often (in history) is excluded
+  // --- Refill (SystemOptions::refill_filtered).
+  // When a frame's grown regions removed at least this fraction of its keypoints, the mask is
+  // taken to cover the movers (KeypointFilter::MaskCoversDetections), so the System detects again
+  // outside the mask and the removed keypoints and spends the whole budget on the rest: a mover
+  // filling half the view otherwise leaves the static part a handful of keypoints. 0: never.
+  double refill_min_removed_fraction = 0.0;
   uint64_t seed = 0;                  // RNG seed for RANSAC (cv::setRNGSeed)
 
   CorrespondenceMethod method() const {

@@ -31,6 +31,21 @@ cv::Mat DownsampleDepth(const cv::Mat& depth_m, int scale, float max_depth_m) {
   return low;
 }
 
+bool MaskWithinRadius(const cv::Mat& mask, cv::Point2f pixel, float radius_px) {
+  const int cx = static_cast<int>(std::lround(pixel.x)),
+            cy = static_cast<int>(std::lround(pixel.y));
+  const int r = static_cast<int>(std::floor(radius_px));
+  const float r2 = radius_px * radius_px;
+  for (int y = std::max(0, cy - r); y <= std::min(mask.rows - 1, cy + r); ++y) {
+    const uint8_t* row = mask.ptr<uint8_t>(y);
+    const float dy2 = static_cast<float>((y - cy) * (y - cy));
+    for (int x = std::max(0, cx - r); x <= std::min(mask.cols - 1, cx + r); ++x) {
+      if (row[x] && static_cast<float>((x - cx) * (x - cx)) + dy2 <= r2) return true;
+    }
+  }
+  return false;
+}
+
 cv::Mat UpsampleAndDilate(const cv::Mat& low_mask, int scale, cv::Size full_size, int dilate_px) {
   cv::Mat full = cv::Mat::zeros(full_size, CV_8U);
   const cv::Rect box = cv::boundingRect(low_mask);

@@ -58,6 +58,10 @@ cv::Mat DownsampleDepth(const cv::Mat& depth_m, int scale, float max_depth_m);
 // the same result as upsampling and dilating the whole image, at a fraction of the cost.
 cv::Mat UpsampleAndDilate(const cv::Mat& low_mask, int scale, cv::Size full_size, int dilate_px);
 
+// True when a set pixel of mask (CV_8U) lies within radius_px of pixel (Euclidean, pixel centres;
+// radius 0: the pixel itself). Pixels outside the image do not count.
+bool MaskWithinRadius(const cv::Mat& mask, cv::Point2f pixel, float radius_px);
+
 // low_depth: DownsampleDepth(depth, options.scale, ...); full_size: the image size.
 // suspect_low: CV_8U at 1/scale (255 = suspect), or empty.
 RegionResult GrowRegions(const cv::Mat& low_depth, cv::Size full_size, const std::vector<RegionPoint>& seeds,

@@ -41,6 +41,22 @@ TEST(UpsampleAndDilate, SameAsWholeImageUpsampleAndDilate) {
 }
 
 // Background at 3 m, a "person" (box) at 1.5 m standing on nothing; seeds grow to the whole box.
+TEST(MaskWithinRadius, EuclideanDistanceToTheNearestSetPixel) {
+  cv::Mat mask = cv::Mat::zeros(40, 50, CV_8U);
+  mask.at<uint8_t>(10, 10) = 255;  // (x 10, y 10)
+  EXPECT_TRUE(MaskWithinRadius(mask, {10.f, 10.f}, 0.f));
+  EXPECT_FALSE(MaskWithinRadius(mask, {11.f, 10.f}, 0.f));
+  EXPECT_TRUE(MaskWithinRadius(mask, {13.f, 14.f}, 5.f));  // distance 5 exactly
+  EXPECT_FALSE(MaskWithinRadius(mask, {13.f, 14.f}, 4.9f));
+  EXPECT_FALSE(MaskWithinRadius(mask, {14.f, 14.f}, 5.5f));  // a 5 px square is not a disc: 5.66
+  EXPECT_TRUE(MaskWithinRadius(mask, {13.4f, 13.6f}, 5.f));  // rounded to the pixel (13, 14)
+  // Near and beyond the border: only pixels inside the image count, nothing is read outside.
+  mask.at<uint8_t>(0, 49) = 255;
+  EXPECT_TRUE(MaskWithinRadius(mask, {52.f, -2.f}, 3.7f));
+  EXPECT_FALSE(MaskWithinRadius(mask, {52.f, -2.f}, 3.5f));
+  EXPECT_FALSE(MaskWithinRadius(cv::Mat::zeros(40, 50, CV_8U), {20.f, 20.f}, 30.f));
+}
+
 TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
   cv::Mat depth(480, 640, CV_32F, cv::Scalar(3.f));
   const cv::Rect person(200, 100, 120, 300);
