@@ -98,10 +98,10 @@ struct FastOptions {
   int track_history = 8;              // keypoint-track memory (frames)
   int track_min_moving = 3;           // a track seen moving this often (in history) is excluded
   // --- Refill (SystemOptions::refill_filtered).
-  // When a frame's grown regions removed at least this fraction of its keypoints, the mask is
-  // taken to cover the movers (KeypointFilter::MaskCoversDetections), so the System detects again
-  // outside the mask and the removed keypoints and spends the whole budget on the rest: a mover
-  // filling half the view otherwise leaves the static part a handful of keypoints. 0: never.
+  // When a frame's removals reach this fraction of its keypoints (and it has a grown region),
+  // the mask is taken to cover the movers (KeypointFilter::MaskCoversDetections): the System
+  // detects again outside the mask and the removed keypoints and spends the whole budget on the
+  // rest, which a mover filling half the view otherwise leaves a few keypoints. 0: never.
   double refill_min_removed_fraction = 0.0;
   uint64_t seed = 0;                  // RNG seed for RANSAC (cv::setRNGSeed)
 
