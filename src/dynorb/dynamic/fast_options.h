@@ -55,7 +55,8 @@ struct FastOptions {
   bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
   bool ego_skip_previous_mask = true;  // points whose previous position lies in the previous
                                        // frame's dynamic regions do not vote for the ego-motion ...
-  double ego_skip_max_fraction = 0.6;  // ... unless they are more than this fraction of the tracks
+  double ego_skip_max_fraction = 0.8;  // ... unless they are more than this fraction of the tracks
+                                       // (0.6 before session 21)
   double ego_skip_search_gate_px = 0.8;  // a prediction covering 60 % of the image at a scoring
                                          // gate at most this (px): no identity/RANSAC search
   bool ego_abandon_duplicates = true;    // a prediction whose first refit lands within 2 mm /
