@@ -8,6 +8,7 @@
 #include <random>
 
 #include "dynorb/dynamic/fast_cues.h"
+#include "dynorb/dynamic/fast_options.h"
 #include "dynorb/dynamic/fast_test_util.h"
 
 namespace dynorb {
@@ -291,6 +292,14 @@ TEST(EgoMotion, ADominantMoverFoundInThePreviousFrameDoesNotVote) {
   ASSERT_TRUE(ego.ok);
   EXPECT_EQ(ego.seed_index, 0);
   EXPECT_LT(MotionError(ego, truth), 5e-3);
+  // The default (0.8 since session 21) trusts regions holding 62.5 % of the tracks.
+  const double default_fraction = FastOptions().ego_skip_max_fraction;
+  EXPECT_EQ(EgoMotionVoters(scene.valid, scene.p1, previous_mask, default_fraction), voters);
+  EXPECT_EQ(
+      EstimateEgoMotionWithPrior(camera, scene.p1, scene.p2, scene.valid, scene.depth,
+                                 {kDominantTruth}, previous_mask, default_fraction, coverage_only)
+          .seed_index,
+      0);
   // 62.5 % of the tracks in the previous regions is more than 0.6: all vote, the person wins.
   EXPECT_EQ(EgoMotionVoters(scene.valid, scene.p1, previous_mask, 0.6), scene.valid);
   EXPECT_EQ(EstimateEgoMotionWithPrior(camera, scene.p1, scene.p2, scene.valid, scene.depth,
