@@ -16,8 +16,11 @@ struct LocalMapperOptions {
   double redundant_ratio = 0.9;          // A keyframe whose close landmarks are this fraction
   int redundant_observers = 3;           // seen by >= this many other keyframes is culled.
   bool local_bundle_adjustment = true;
-  int local_ba_keyframes = 10;           // Free keyframes: the new one + its best covisibles.
-  int local_ba_fixed_keyframes = 10;     // Fixed observers kept (most observations first).
+  // Local BA window (ORB-SLAM2 takes every covisible and observer). 20 / 20 since session 22
+  // (10 / 10 before): the dynamic modes make more keyframes than a static scene needs, and a
+  // 10-keyframe window spans too few frames there (docs/slam_core.md, "Local BA window").
+  int local_ba_keyframes = 20;           // Free keyframes: the new one + its best covisibles.
+  int local_ba_fixed_keyframes = 20;     // Fixed observers kept (most observations first).
   bool keyframe_culling = true;
   // A triangulated point seen at a keypoint without depth must not lie nearer than this fraction
   // of the nearest depth measured around that keypoint (it would occlude what the depth camera
