@@ -37,6 +37,12 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("ego_skip_previous_mask", &o.ego_skip_previous_mask,
            "tracked points whose previous position lies in the previous frame's dynamic regions do "
            "not vote for the ego-motion (a mover that dominates the view cannot capture it)")
+      .Add("ego_previous_mask_always", &o.ego_previous_mask_always,
+           "ego-motion: the points in the previous frame's dynamic regions never vote (false: "
+           "only when the prediction was outvoted)")
+      .Add("ego_previous_removed", &o.ego_previous_removed,
+           "ego-motion: the points landing within 2 px of a keypoint the previous frame removed "
+           "do not vote either (a slow mover the prediction partly follows cannot pull the fit)")
       .Add("ego_skip_max_fraction", &o.ego_skip_max_fraction,
            "... unless they are more than this fraction of the tracked points (then all vote)")
       .Add("bf_best_fraction", &o.bf_best_fraction,

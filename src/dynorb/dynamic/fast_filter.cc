@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/timer.h"
 #include "dynorb/dynamic/fast_correspondence.h"
@@ -107,6 +108,15 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   previous_history_ = std::move(w.history);
   previous_depth_ = w.depth.clone();
   previous_mask_ = w.final_mask.empty() ? cv::Mat() : w.final_mask.clone();
+  if (options_.ego_previous_removed) {
+    // The removed keypoints themselves (seeds, flagged tracks) are part of the prior too: a
+    // region need not cover all of a mover's keypoints.
+    for (size_t i = 0; i < out.keep.size() && i < w.n; ++i) {
+      if (out.keep[i]) continue;
+      if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(w.depth.size(), CV_8U);
+      cv::circle(previous_mask_, w.p2[i], 2, cv::Scalar(255), cv::FILLED);
+    }
+  }
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
@@ -162,10 +172,21 @@ void FastFilter::EstimateMotion(FrameWork* w) {
   ego_options.abandon_duplicate_predictions = options_.ego_abandon_duplicates;
   ego_options.max_depth_m = w->max_depth;
   const cv::Mat no_mask;
-  w->ego =
-      EstimateEgoMotionWithPrior(camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
-                                 options_.ego_skip_previous_mask ? previous_mask_ : no_mask,
-                                 options_.ego_skip_max_fraction, ego_options);
+  // The previous frame's regions and removed keypoints do not vote (session 23): once found, a
+  // slow mover that the prediction partly follows cannot pull the refits towards its motion.
+  if (options_.ego_skip_previous_mask && options_.ego_previous_mask_always &&
+      !previous_mask_.empty()) {
+    const std::vector<uint8_t> voters =
+        EgoMotionVoters(w->corr.valid, w->p1, previous_mask_, options_.ego_skip_max_fraction);
+    w->ego =
+        EstimateEgoMotion(camera_, w->p1, w->p2, voters, w->depth, w->motion_seeds, ego_options);
+  }
+  if (!w->ego.ok) {
+    w->ego =
+        EstimateEgoMotionWithPrior(camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
+                                   options_.ego_skip_previous_mask ? previous_mask_ : no_mask,
+                                   options_.ego_skip_max_fraction, ego_options);
+  }
   info_.ego_ok = w->ego.ok;
   info_.ego_seed = w->ego.seed_index;
   if (w->ego.ok) {

@@ -55,6 +55,10 @@ struct FastOptions {
   bool refine_ego_motion = true;      // refine the motion-model prediction on tracked points
   bool ego_skip_previous_mask = true;  // points whose previous position lies in the previous
                                        // frame's dynamic regions do not vote for the ego-motion ...
+  bool ego_previous_mask_always =
+      true;                            // ... not only when the prediction was outvoted (session 23)
+  bool ego_previous_removed = true;    // ... nor those landing within 2 px of a keypoint removed
+                                       // there (session 23: a slow mover the prediction follows)
   double ego_skip_max_fraction = 0.8;  // ... unless they are more than this fraction of the tracks
                                        // (0.6 before session 21)
   double ego_skip_search_gate_px = 0.8;  // a prediction covering 60 % of the image at a scoring
