@@ -121,7 +121,8 @@ class FastFilter : public KeypointFilter {
   std::vector<uint16_t> previous_history_;
   cv::Mat previous_descriptors_;
   cv::Mat previous_depth_;
-  cv::Mat previous_mask_;  // the previous frame's dynamic regions (empty: none)
+  cv::Mat previous_mask_;  // the previous frame's dynamic regions (empty: none) and, with
+                           // ego_previous_removed, 2 px disks at the keypoints it removed
   SuspectMap suspect_;
   std::optional<Rigid3d> own_prev_from_cur_;  // last ego-motion (constant-velocity seed)
   // Diagnostics.
