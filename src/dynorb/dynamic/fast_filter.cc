@@ -172,21 +172,12 @@ void FastFilter::EstimateMotion(FrameWork* w) {
   ego_options.abandon_duplicate_predictions = options_.ego_abandon_duplicates;
   ego_options.max_depth_m = w->max_depth;
   const cv::Mat no_mask;
-  // The previous frame's regions and removed keypoints do not vote (session 23): once found, a
-  // slow mover that the prediction partly follows cannot pull the refits towards its motion.
-  if (options_.ego_skip_previous_mask && options_.ego_previous_mask_always &&
-      !previous_mask_.empty()) {
-    const std::vector<uint8_t> voters =
-        EgoMotionVoters(w->corr.valid, w->p1, previous_mask_, options_.ego_skip_max_fraction);
-    w->ego =
-        EstimateEgoMotion(camera_, w->p1, w->p2, voters, w->depth, w->motion_seeds, ego_options);
-  }
-  if (!w->ego.ok) {
-    w->ego =
-        EstimateEgoMotionWithPrior(camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
-                                   options_.ego_skip_previous_mask ? previous_mask_ : no_mask,
-                                   options_.ego_skip_max_fraction, ego_options);
-  }
+  // With ego_previous_mask_always the previous regions (and, with ego_previous_removed, the
+  // keypoints the previous frame removed) never vote (session 23).
+  w->ego = EstimateEgoMotionWithPrior(
+      camera_, w->p1, w->p2, w->corr.valid, w->depth, w->motion_seeds,
+      options_.ego_skip_previous_mask ? previous_mask_ : no_mask, options_.ego_skip_max_fraction,
+      ego_options, options_.ego_previous_mask_always);
   info_.ego_ok = w->ego.ok;
   info_.ego_seed = w->ego.seed_index;
   if (w->ego.ok) {

@@ -347,7 +347,13 @@ EgoMotionResult EstimateEgoMotionWithPrior(
     const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
     const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid, const cv::Mat& depth_cur,
     const std::vector<Rigid3d>& seeds_prev_from_cur, const cv::Mat& previous_mask,
-    double max_fraction, const EgoMotionOptions& options) {
+    double max_fraction, const EgoMotionOptions& options, bool always) {
+  if (always && !previous_mask.empty()) {
+    const std::vector<uint8_t> voters = EgoMotionVoters(valid, p1, previous_mask, max_fraction);
+    const EgoMotionResult without =
+        EstimateEgoMotion(camera, p1, p2, voters, depth_cur, seeds_prev_from_cur, options);
+    if (without.ok) return without;
+  }
   const EgoMotionResult all =
       EstimateEgoMotion(camera, p1, p2, valid, depth_cur, seeds_prev_from_cur, options);
   if (!all.ok || all.seed_index >= 0 || seeds_prev_from_cur.empty() || previous_mask.empty()) {

@@ -104,10 +104,13 @@ EgoMotionResult EstimateEgoMotion(const PinholeCamera& camera, const std::vector
 // in previous_mask (EgoMotionVoters); if a prediction wins that vote, it is the result. A mover
 // that fills much of the view, found by the previous frame, cannot capture the estimate; the
 // prior is not used when the prediction wins anyway (a wrong previous region cannot hold).
+// always (session 23): the points in previous_mask never vote (EgoMotionVoters), whoever wins;
+// the vote above runs only if that estimate fails. A slow mover that the prediction partly
+// follows then cannot pull the refits towards its motion once it has been found.
 EgoMotionResult EstimateEgoMotionWithPrior(
     const PinholeCamera& camera, const std::vector<cv::Point2f>& p1,
     const std::vector<cv::Point2f>& p2, const std::vector<uint8_t>& valid, const cv::Mat& depth_cur,
     const std::vector<Rigid3d>& seeds_prev_from_cur, const cv::Mat& previous_mask,
-    double max_fraction, const EgoMotionOptions& options);
+    double max_fraction, const EgoMotionOptions& options, bool always = false);
 
 }  // namespace dynorb

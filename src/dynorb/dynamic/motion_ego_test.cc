@@ -331,6 +331,23 @@ TEST(EgoMotion, APreviousRegionIsNotUsedWhenThePredictionWins) {
   EXPECT_EQ(with_prior.seed_index, 0);
   EXPECT_LT(MotionError(with_prior, kDominantTruth), 5e-3);
   EXPECT_EQ(with_prior.num_inliers, plain.num_inliers);
+  // With `always` the wrong regions do not vote even though the prediction would win: only the
+  // person's points are left, and the estimate follows the person (the price of the rule when a
+  // previous region is wrong; it lasts as long as the region).
+  const EgoMotionResult always =
+      EstimateEgoMotionWithPrior(camera, scene.p1, scene.p2, scene.valid, scene.depth,
+                                 {kDominantTruth}, wrong_mask, 0.6, EgoMotionOptions(), true);
+  ASSERT_TRUE(always.ok);
+  EXPECT_GT(MotionError(always, kDominantTruth), 0.02);
+  EXPECT_LT(MotionError(always, kDominantPerson), 5e-3);
+  // A correct region (the person) with `always`: the background alone gives the true motion.
+  cv::Mat person_mask(camera.height, camera.width, CV_8U, cv::Scalar(0));
+  person_mask.colRange(236, camera.width).setTo(255);
+  const EgoMotionResult found =
+      EstimateEgoMotionWithPrior(camera, scene.p1, scene.p2, scene.valid, scene.depth,
+                                 {kDominantTruth}, person_mask, 0.7, EgoMotionOptions(), true);
+  ASSERT_TRUE(found.ok);
+  EXPECT_LT(MotionError(found, kDominantTruth), 5e-3);
 }
 
 }  // namespace
