@@ -16,6 +16,7 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_window_px", &o.lk_window_px, "LK window side (px, odd)")
       .Add("lk_levels", &o.lk_levels, "LK pyramid levels above the base image")
       .Add("lk_iterations", &o.lk_iterations, "LK iterations per level")
+      .Add("lk_epsilon_px", &o.lk_epsilon_px, "LK stops a point once its update is below this (px)")
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
       .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
            "forward-backward check only for points a cue flags moving (faster; tracks that fail it unseen "
@@ -113,6 +114,14 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("suspect_depth_m", &o.suspect_depth_m, "suspect only where the depth still matches (m)")
       .Add("track_history", &o.track_history, "keypoint-track memory (frames)")
       .Add("track_min_moving", &o.track_min_moving, "a track seen moving this often is excluded")
+      .Add("remove_lone_seeds", &o.remove_lone_seeds,
+           "remove moving seeds and flagged tracks outside every region and the suspect map")
+      .Add("lone_seed_persistent_px", &o.lone_seed_persistent_px,
+           "> 0: remove a lone seed only when its previous position is this close (px) to a "
+           "keypoint flagged in the previous frame")
+      .Add("lone_suspect_max_age", &o.lone_suspect_max_age,
+           "remove keypoints flagged by the suspect map alone when the cell was in a region at "
+           "most this many frames ago (0: never)")
       .Add("refill_min_removed_fraction", &o.refill_min_removed_fraction,
            "refill outside the regions on frames whose regions removed at least this fraction of "
            "the keypoints (0: never)")

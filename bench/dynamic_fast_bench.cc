@@ -174,6 +174,7 @@ void BM_FastFlow_BaseFirst(benchmark::State& state) {
   }
   lk.base_first_px = 1.0;
   lk.base_window_px = static_cast<int>(state.range(0));
+  lk.epsilon_px = state.range(1) / 100.0;
   size_t i = 1;
   for (auto _ : state) {
     const Pair& p = pairs[i];
@@ -186,12 +187,15 @@ void BM_FastFlow_BaseFirst(benchmark::State& state) {
 BENCHMARK(BM_FastFlow_Pyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFlow_Track)->Arg(400)->Arg(200)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFlow_BaseFirst)
-    ->Arg(0)
-    ->Arg(15)
-    ->Arg(11)
-    ->Arg(9)
-    ->Arg(7)
-    ->ArgName("base_window_px")
+    ->Args({0, 1})
+    ->Args({15, 1})
+    ->Args({11, 1})
+    ->Args({9, 1})
+    ->Args({7, 1})
+    ->Args({11, 3})
+    ->Args({11, 5})
+    ->Args({11, 10})
+    ->ArgNames({"base_window_px", "epsilon_centipx"})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFilter_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);

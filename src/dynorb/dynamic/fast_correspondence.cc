@@ -25,7 +25,8 @@ void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vec
                     std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
   const cv::Size window(options.window_px, options.window_px);
   const int base_side = options.base_window_px > 0 ? options.base_window_px : options.window_px;
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                  options.iterations, options.epsilon_px);
   const std::vector<cv::Point2f> guess = *previous;
   std::vector<float> error;
   cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, *previous, *status, error,
@@ -77,7 +78,8 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   c.previous = initial_previous.size() == n ? initial_previous : current;
   if (n == 0) return c;
   const cv::Size window(options.window_px, options.window_px);
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                  options.iterations, options.epsilon_px);
   std::vector<uint8_t> status, back_status;
   std::vector<float> error;
   if (options.base_first_px > 0.0 && initial_previous.size() == n) {
@@ -141,7 +143,8 @@ int CheckBackward(const std::vector<cv::Mat>& previous_pyramid, const std::vecto
   }
   std::vector<uint8_t> status;
   std::vector<float> error;
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, 0.01);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                  options.iterations, options.epsilon_px);
   cv::calcOpticalFlowPyrLK(previous_pyramid, current_pyramid, from, back, status, error,
                            cv::Size(options.window_px, options.window_px), options.BackwardLevels(),
                            criteria, cv::OPTFLOW_USE_INITIAL_FLOW);

@@ -29,6 +29,8 @@ struct LkOptions {
   int window_px = 21;
   int levels = 3;
   int iterations = 20;
+  // LK stops a point's iterations when its update is below this (px).
+  double epsilon_px = 0.01;
   double fb_max_px = 1.0;
   bool backward_check = true;  // false: forward tracks only (CheckBackward later, on a subset)
   // > 0 and a guess given: LK first on the base image only, from the guess; a point whose result

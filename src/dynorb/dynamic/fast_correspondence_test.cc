@@ -190,6 +190,33 @@ TEST(LkFlow, ASmallerBaseWindowGivesTheFullWindowsTracks) {
   EXPECT_GT(max_difference, 1e-4f) << max_difference;
 }
 
+// A coarser stopping step (lk_epsilon_px 0.05 instead of 0.01): LK stops earlier, the tracks stay
+// within a tenth of a pixel of the finer ones, and the far-off guesses still find the shift.
+TEST(LkFlow, ACoarserStopKeepsTheTracksWithinATenthOfAPixel) {
+  const BaseFirstScene s = MakeBaseFirstScene();
+  LkOptions fine = s.pyramid_only;
+  fine.base_first_px = 1.0;
+  fine.base_window_px = 11;
+  LkOptions coarse = fine;
+  coarse.epsilon_px = 0.05;
+  const Correspondences reference = TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, fine);
+  const Correspondences c = TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, coarse);
+  ASSERT_EQ(c.num_valid, reference.num_valid);
+  int right = 0;
+  float max_difference = 0.f;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    ASSERT_EQ(c.valid[i], reference.valid[i]) << i;
+    if (!c.valid[i]) continue;
+    const cv::Point2f d = c.previous[i] - reference.previous[i];
+    max_difference = std::max(max_difference, std::hypot(d.x, d.y));
+    const cv::Point2f e = c.previous[i] - (s.points[i] - cv::Point2f(3.f, 1.f));
+    right += std::hypot(e.x, e.y) < 0.1f;
+  }
+  EXPECT_LT(max_difference, 0.1f);
+  EXPECT_GT(max_difference, 1e-4f) << "the coarser step should stop some points earlier";
+  EXPECT_GT(right, static_cast<int>(s.points.size()) * 9 / 10);
+}
+
 TEST(LkFlow, SpreadSubsetTakesTheStrongestOfEveryCellFirst) {
   std::vector<cv::KeyPoint> keypoints;
   // Cell (0, 0) of the 16x12 grid on 640x480 (40x40 px): three keypoints; three other cells: one

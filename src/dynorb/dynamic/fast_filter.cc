@@ -33,6 +33,7 @@ LkOptions LkFromOptions(const FastOptions& options) {
   lk.window_px = options.lk_window_px;
   lk.levels = options.lk_levels;
   lk.iterations = options.lk_iterations;
+  lk.epsilon_px = options.lk_epsilon_px;
   lk.fb_max_px = options.lk_fb_max_px;
   lk.backward_check = !options.lk_fb_candidates_only;
   lk.base_first_px = options.lk_base_first_px;
@@ -111,11 +112,14 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   if (options_.ego_previous_removed) {
     // The removed keypoints themselves (seeds, flagged tracks) are part of the prior too: a
     // region need not cover all of a mover's keypoints.
-    for (size_t i = 0; i < out.keep.size() && i < w.n; ++i) {
-      if (out.keep[i]) continue;
+    auto mark = [&](size_t i) {
       if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(w.depth.size(), CV_8U);
       cv::circle(previous_mask_, w.p2[i], 2, cv::Scalar(255), cv::FILLED);
+    };
+    for (size_t i = 0; i < out.keep.size() && i < w.n; ++i) {
+      if (!out.keep[i]) mark(i);
     }
+    for (int i : w.kept_flagged) mark(static_cast<size_t>(i));
   }
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;

@@ -72,6 +72,21 @@ void FastFilter::Classify(FrameWork* w) {
     epi[i] = dir[i] = mag[i] = warp.depth[i] = CueVote::kUnknown;
   }
   last_residual_ = warp.residual_px;
+  // Track association: the previous keypoint each correspondence lands on (within 2 px).
+  std::vector<int> previous_of(n, -1);
+  if (!previous_keypoints_.empty()) {
+    const KeypointGrid grid(previous_keypoints_, w->input.gray->size(), 8.f);
+    std::vector<int> near;
+    for (size_t i = 0; i < n; ++i) {
+      if (!valid[i]) continue;
+      grid.FindInRadius(p1[i].x, p1[i].y, 2.f, &near);
+      float best = 5.f;
+      for (int j : near) {
+        const cv::Point2f d = previous_points_[j] - p1[i];
+        if (d.dot(d) < best) best = d.dot(d), previous_of[i] = j;
+      }
+    }
+  }
   w->seed.assign(n, 0);
   w->confident_static.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
@@ -93,18 +108,8 @@ void FastFilter::Classify(FrameWork* w) {
   // Track memory: inherit the history of the previous keypoint the correspondence lands on.
   const uint16_t history_mask = static_cast<uint16_t>((1u << options_.track_history) - 1u);
   if (previous_keypoints_.empty()) return;
-  const KeypointGrid grid(previous_keypoints_, w->input.gray->size(), 8.f);
-  std::vector<int> near;
   for (size_t i = 0; i < n; ++i) {
-    uint16_t h = 0;
-    if (valid[i]) {
-      grid.FindInRadius(p1[i].x, p1[i].y, 2.f, &near);
-      float best = 5.f;
-      for (int j : near) {
-        const cv::Point2f d = previous_points_[j] - p1[i];
-        if (d.dot(d) < best) best = d.dot(d), h = previous_history_[j];
-      }
-    }
+    const uint16_t h = previous_of[i] >= 0 ? previous_history_[previous_of[i]] : 0;
     w->history[i] = static_cast<uint16_t>(((h << 1) | w->seed[i]) & history_mask);
     if (static_cast<int>(std::bitset<16>(w->history[i]).count()) >= options_.track_min_moving) {
       cue_bits_[i] |= kCueTrack;
@@ -178,6 +183,7 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
         cue_bits_[i] |= kCueRegion;
       }
     }
+    int suspect_age = 255;
     if (!suspect_low.empty()) {
       const int s = options_.region_scale;
       const int lx = std::min(x / s, suspect_low.cols - 1),
@@ -187,14 +193,38 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
         const float z = SampleDepth(depth, p2[i], w->max_depth).center;
         if (z > 0.f && std::abs(z - suspect.depth.at<float>(ly, lx)) < options_.suspect_depth_m) {
           cue_bits_[i] |= kCueSuspect;
+          suspect_age = suspect.age.at<uint8_t>(ly, lx);
         }
       }
     }
-    if (cue_bits_[i] & (kCueSeed | kCueTrack | kCueRegion | kCueSuspect)) {
+    const uint16_t bits = cue_bits_[i];
+    bool lone_seed = !(bits & (kCueRegion | kCueSuspect));
+    if (lone_seed && !options_.remove_lone_seeds && (bits & (kCueSeed | kCueTrack)) &&
+        options_.lone_seed_persistent_px > 0.0 && w->corr.valid[i]) {
+      const double r2 = options_.lone_seed_persistent_px * options_.lone_seed_persistent_px;
+      for (const cv::Point2f& q : previous_flagged_) {
+        const cv::Point2f d = q - p1[i];
+        if (d.x * d.x + d.y * d.y <= r2) {
+          lone_seed = false;  // flagged again: removed like a seed with support
+          break;
+        }
+      }
+    }
+    const bool lone_suspect = !(bits & (kCueSeed | kCueTrack | kCueRegion));
+    if ((bits & kCueRegion) ||
+        ((bits & (kCueSeed | kCueTrack)) && (options_.remove_lone_seeds || !lone_seed)) ||
+        ((bits & kCueSuspect) && (suspect_age <= options_.lone_suspect_max_age || !lone_suspect))) {
       out->keep[i] = false;
       ++info_.num_removed;
+    } else if (bits & (kCueSeed | kCueTrack | kCueSuspect)) {
+      w->kept_flagged.push_back(static_cast<int>(i));
     }
     info_.num_seeds += w->seed[i];
+  }
+  previous_flagged_.clear();
+  for (size_t i = 0; i < n; ++i) {
+    if (cue_bits_[i] & (kCueSeed | kCueTrack | kCueRegion | kCueSuspect))
+      previous_flagged_.push_back(p2[i]);
   }
   if (ego.ok && options_.use_region) {
     AddToSuspect(region.low_mask, low_depth, &suspect);

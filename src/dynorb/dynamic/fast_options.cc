@@ -56,6 +56,12 @@ void FastOptions::Validate() const {
   Require(refill_min_removed_fraction >= 0.0 && refill_min_removed_fraction <= 1.0,
           "refill_min_removed_fraction must be in [0, 1] (0: never refill)");
   Require(track_min_moving >= 1, "track_min_moving must be >= 1 (larger than track_history disables it)");
+  Require(lk_epsilon_px > 0.0 && lk_epsilon_px <= 1.0, "lk_epsilon_px must be in (0, 1]");
+  Require(lone_seed_persistent_px >= 0.0 && lone_seed_persistent_px <= 50.0,
+          "lone_seed_persistent_px must be in [0, 50] (0: every lone seed is removed)");
+  Require(lone_suspect_max_age >= 0 && lone_suspect_max_age <= 30,
+          "lone_suspect_max_age must be in [0, 30] (0: keypoints flagged by the suspect map alone "
+          "are kept)");
 }
 
 }  // namespace dynorb
