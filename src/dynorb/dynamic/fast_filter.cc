@@ -110,16 +110,12 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   previous_depth_ = w.depth.clone();
   previous_mask_ = w.final_mask.empty() ? cv::Mat() : w.final_mask.clone();
   if (options_.ego_previous_removed) {
-    // The removed keypoints themselves (seeds, flagged tracks) are part of the prior too: a
-    // region need not cover all of a mover's keypoints.
-    auto mark = [&](size_t i) {
+    // The flagged keypoints themselves (every removed one, and the lone seeds kept since
+    // session 24) are part of the prior too: a region need not cover all of a mover's keypoints.
+    for (const cv::Point2f& p : previous_flagged_) {
       if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(w.depth.size(), CV_8U);
-      cv::circle(previous_mask_, w.p2[i], 2, cv::Scalar(255), cv::FILLED);
-    };
-    for (size_t i = 0; i < out.keep.size() && i < w.n; ++i) {
-      if (!out.keep[i]) mark(i);
+      cv::circle(previous_mask_, p, 2, cv::Scalar(255), cv::FILLED);
     }
-    for (int i : w.kept_flagged) mark(static_cast<size_t>(i));
   }
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;

@@ -118,8 +118,9 @@ class FastFilter : public KeypointFilter {
   std::vector<cv::Mat> previous_pyramid_;
   std::vector<cv::KeyPoint> previous_keypoints_;
   std::vector<cv::Point2f> previous_points_;
-  std::vector<cv::Point2f>
-      previous_flagged_;  // keypoints flagged by any cue (lone_seed_persistent_px)
+  // The previous frame's keypoints flagged by any cue (removed or kept): lone-seed persistence
+  // and, with ego_previous_removed, the ego-motion prior.
+  std::vector<cv::Point2f> previous_flagged_;
   std::vector<uint16_t> previous_history_;
   cv::Mat previous_descriptors_;
   cv::Mat previous_depth_;

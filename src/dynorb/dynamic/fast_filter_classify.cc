@@ -216,8 +216,6 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
         ((bits & kCueSuspect) && (suspect_age <= options_.lone_suspect_max_age || !lone_suspect))) {
       out->keep[i] = false;
       ++info_.num_removed;
-    } else if (bits & (kCueSeed | kCueTrack | kCueSuspect)) {
-      w->kept_flagged.push_back(static_cast<int>(i));
     }
     info_.num_seeds += w->seed[i];
   }

@@ -46,7 +46,6 @@ struct FastFilter::FrameWork {
   std::vector<uint8_t> seed, confident_static;
   std::vector<uint16_t> history;  // track memory, one bit per frame (newest lowest)
   cv::Mat final_mask;             // full-resolution dynamic region mask
-  std::vector<int> kept_flagged;  // flagged keypoints kept (remove_lone_seeds / _suspect off)
 };
 
 }  // namespace dynorb
