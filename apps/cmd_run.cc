@@ -25,7 +25,7 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
                   "Write one image per frame: kept keypoints green, removed (dynamic) ones red, plus the mode's evidence");
   cmd->add_option("--overlay-every", cli->overlay_every,
                   "With --save-overlays: only every N-th frame (drawing is timed as part of the filter)")
-      ->check(CLI::PositiveNumber);
+      ->check(IntAtLeast(1));
   cmd->add_option("--run-mode", cli->run_mode, "sequential (deterministic) or parallel (mapping thread)")
       ->check(CLI::IsMember({"sequential", "parallel"}));
   cmd->add_flag("--pipeline,!--no-pipeline", cli->pipeline,
@@ -41,7 +41,7 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
                 "Decode every frame into memory before the run starts, so that the timing is that of a live camera "
                 "(no PNG decoding competing for the cores); about 2.2 MB per 640x480 frame (2.8 MB with ground-truth masks), refused when more than "
                 "half the machine's memory");
-  cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)");
+  cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)")->check(NonNegativeInteger());
   cmd->add_option("--frames", cli->frames, "Frame range A:B (0-based, B exclusive; either side may be empty)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {

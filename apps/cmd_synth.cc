@@ -91,6 +91,7 @@ const bool kRegistered = RegisterCommand("synth", 15, [](CLI::App& app) {
                   "camera motion and people: " + synth::PresetNames())
       ->capture_default_str();
   cmd->add_option("--seed", cli->options.seed, "random seed (layout details, paths, noise)")
+      ->check(NonNegativeInteger())
       ->capture_default_str();
   cmd->add_option("--out", cli->options.out_dir, "output directory (must be empty unless --force)")
       ->required();
@@ -103,7 +104,8 @@ const bool kRegistered = RegisterCommand("synth", 15, [](CLI::App& app) {
                   "../shared/data/people "
                   "if present, else procedural figures)")
       ->capture_default_str();
-  cmd->add_option("--num-people", cli->options.num_people, "number of people 1..3 (default 2)");
+  cmd->add_option("--num-people", cli->options.num_people, "number of people 1..3 (default 2)")
+      ->check(CLI::Range(1, 3));
   cmd->add_flag("--no-noise", cli->no_noise, "ideal sensor: no noise, blur or exposure changes");
   cmd->add_option("--textures", cli->textures,
                   std::string("directory of the photographs used as textures (default ") +

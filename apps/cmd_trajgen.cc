@@ -45,7 +45,7 @@ const bool kRegistered = RegisterCommand("trajgen", 85, [](CLI::App& app) {
                                      "format) for trying `dynorb eval`");
   TrajectoryPairOptions& p = opts->pair;
   cmd->add_option("--out", opts->out_dir, "output directory (created if missing)")->required();
-  cmd->add_option("--seed", p.seed, "random seed")->capture_default_str();
+  cmd->add_option("--seed", p.seed, "random seed")->check(NonNegativeInteger())->capture_default_str();
   cmd->add_option("--duration-s", p.duration_s, "trajectory length, seconds")
       ->capture_default_str();
   cmd->add_option("--rate-hz", p.rate_hz, "pose rate, Hz")->capture_default_str();

@@ -1,6 +1,7 @@
 #include "command_registry.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
 #include <vector>
 
@@ -27,6 +28,33 @@ void AddRegisteredCommands(CLI::App& app) {
   std::sort(registry.begin(), registry.end(),
             [](const Entry& a, const Entry& b) { return std::tie(a.order, a.name) < std::tie(b.order, b.name); });
   for (const Entry& entry : registry) entry.setup(app);
+}
+
+CLI::Validator NonNegativeInteger() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+          return "expects a non-negative integer, got '" + text + "'";
+        return {};
+      },
+      "UINT", "non-negative integer");
+}
+
+CLI::Validator IntAtLeast(int min) {
+  return CLI::Validator(
+      [min](std::string& text) -> std::string {
+        long long value = 0;
+        size_t used = 0;
+        try {
+          value = std::stoll(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size() || value < min)
+          return "expects an integer >= " + std::to_string(min) + ", got '" + text + "'";
+        return {};
+      },
+      "INT>=" + std::to_string(min), "integer at least " + std::to_string(min));
 }
 
 }  // namespace dynorb

@@ -21,4 +21,9 @@ using CommandSetup = std::function<void(CLI::App&)>;
 bool RegisterCommand(const std::string& name, int order, CommandSetup setup);
 void AddRegisteredCommands(CLI::App& app);
 
+// Checks for numeric options whose CLI11 defaults mislead. An unsigned option (e.g. --seed) would
+// take "-1" as 2^64 - 1; CLI::PositiveNumber reports its range as doubles up to 1.8e308.
+CLI::Validator NonNegativeInteger();
+CLI::Validator IntAtLeast(int min);
+
 }  // namespace dynorb

@@ -36,7 +36,7 @@ struct SynthOptions {
   int frames = 0;            // number of frames; 0 = the preset's (or trajectory's) duration
   bool static_twin = false;  // remove every moving object
   std::string people_dir;    // RGBA *.png cut-outs of real people; empty = procedural figures
-  int num_people = 0;        // 1..3; 0 = 2 (sitting presets) or 3 (walking presets)
+  int num_people = 0;        // 1..3; 0 = 2
   std::string texture_dir = kDefaultTextureDir;  // photographs (opencv-doc examples/data)
   bool texture_dir_explicit = false;  // missing explicit dir/file = error; default = warning
   std::string trajectory_file;        // TUM trajectory driving the camera instead of the preset
