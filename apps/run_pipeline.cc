@@ -112,6 +112,7 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
   options.orb.min_th_fast = config.orb.min_th_fast;
   options.tracker.seed = cli.seed;
   options.run_mode = cli.run_mode == "parallel" ? RunMode::kParallel : RunMode::kSequential;
+  options.front_end_threads = cli.front_end_threads;
   return options;
 }
 
@@ -313,6 +314,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.run_mode = cli.run_mode;
   inputs.pipeline = cli.pipeline;
   inputs.pipeline_depth = cli.pipeline ? cli.pipeline_depth : 0;
+  inputs.front_end_threads = cli.pipeline ? cli.front_end_threads : 0;
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;

@@ -91,6 +91,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["run_mode"] = inputs.run_mode;
   j["pipeline"] = inputs.pipeline;
   j["pipeline_depth"] = inputs.pipeline_depth;
+  j["front_end_threads"] = inputs.front_end_threads;
   // Frames decoded before the run (--preload): the timings then exclude PNG decoding competing
   // for the cores, as with a live camera.
   j["preload"] = inputs.preload;

@@ -16,6 +16,7 @@ struct RunSummaryInputs {
   uint64_t seed = 0;
   bool pipeline = false;  // RunRequest::pipeline
   int pipeline_depth = 0;  // RunRequest::pipeline_depth when pipelined, else 0
+  int front_end_threads = 0;  // RunRequest::front_end_threads when pipelined, else 0
   size_t first_frame = 0;
   double wall_seconds = 0.0;     // from the first frame's processing (after a preload)
   double cpu_seconds = 0.0;      // CPU time of the process (all threads) over the same span

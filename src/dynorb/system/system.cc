@@ -16,6 +16,8 @@ void SystemOptions::Validate() const {
     throw InputError("Camera.bf and ThDepth must be positive");
   if (mapper_queue_capacity < 1) throw InputError("mapper queue capacity must be >= 1");
   if (refill_disk_px < 0) throw InputError("refill_disk_px must be >= 0");
+  if (front_end_threads < 1 || front_end_threads > 2)
+    throw InputError("front_end_threads must be 1 or 2, got " + std::to_string(front_end_threads));
   orb.Validate();
   tracker.Validate();
   mapper.Validate();
@@ -36,29 +38,53 @@ System::~System() { Finish(); }
 
 void System::StopFrontEndWorker() {
   // Front ends nobody will ask for are run to the end and dropped.
+  if (detect_jobs_) detect_jobs_->Close();
   if (front_jobs_) front_jobs_->Close();
+  if (detect_thread_.joinable()) detect_thread_.join();
   if (front_thread_.joinable()) front_thread_.join();
+  detect_jobs_.reset();
   front_jobs_.reset();
   pending_.clear();
 }
 
+namespace {
+
+// A worker thread running the jobs of `jobs` in order until it is closed and drained.
+template <typename Result>
+std::thread StartWorker(std::unique_ptr<BlockingQueue<std::packaged_task<Result()>>>* jobs) {
+  // Capacity: never the bound (at most the frames ahead are queued), only a safety net.
+  *jobs = std::make_unique<BlockingQueue<std::packaged_task<Result()>>>(1024);
+  return std::thread([queue = jobs->get()] {
+    std::packaged_task<Result()> job;
+    while (queue->Pop(&job)) job();
+  });
+}
+
+}  // namespace
+
 void System::StartFrontEnd(const NextFrame& frame) {
-  if (!front_jobs_) {
-    // Capacity: never the bound (at most the frames ahead are queued), only a safety net.
-    front_jobs_ = std::make_unique<BlockingQueue<std::packaged_task<FrontEnd()>>>(1024);
-    front_thread_ = std::thread([jobs = front_jobs_.get()] {
-      std::packaged_task<FrontEnd()> job;
-      while (jobs->Pop(&job)) job();
-    });
-  }
+  const bool split = options_.front_end_threads == 2;
+  if (!front_jobs_) front_thread_ = StartWorker(&front_jobs_);
+  if (split && !detect_jobs_) detect_thread_ = StartWorker(&detect_jobs_);
   // Started before this frame is tracked: the velocity and tracker state of the frame before.
   // Called while frame next_frame_id_ is being processed, after its own front end was taken.
   const FrameId id = next_frame_id_ + static_cast<FrameId>(pending_.size()) + 1;
-  std::packaged_task<FrontEnd()> job(
-      [this, id, frame, velocity = last_velocity_, initialized = tracker_.state() != TrackingState::kNotInitialized] {
-        return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity, initialized,
-                           frame.want_overlay);
-      });
+  const bool initialized = tracker_.state() != TrackingState::kNotInitialized;
+  std::packaged_task<FrontEnd()> job;
+  if (split) {
+    std::packaged_task<Detected()> detect([this, bgr = frame.bgr] { return Detect(bgr); });
+    job = std::packaged_task<FrontEnd()>([this, id, frame, velocity = last_velocity_, initialized,
+                                          detected = detect.get_future()]() mutable {
+      return FinishFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, detected.get(),
+                            velocity, initialized, frame.want_overlay);
+    });
+    detect_jobs_->Push(std::move(detect));
+  } else {
+    job = std::packaged_task<FrontEnd()>([this, id, frame, velocity = last_velocity_, initialized] {
+      return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity, initialized,
+                         frame.want_overlay);
+    });
+  }
   pending_.push_back({frame.timestamp_s, job.get_future()});
   front_jobs_->Push(std::move(job));
 }
@@ -151,20 +177,36 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
   return records_.back();
 }
 
+System::Detected System::Detect(const cv::Mat& bgr) const {
+  Stopwatch total;
+  Detected detected;
+  cv::cvtColor(bgr, detected.gray, cv::COLOR_BGR2GRAY);
+  Stopwatch watch;
+  detected.set = extractor_.Detect(detected.gray);
+  detected.detect_ms = watch.ElapsedMs();
+  detected.ms = total.ElapsedMs();
+  return detected;
+}
+
 System::FrontEnd System::RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
                                      const cv::Mat& depth_m, std::optional<Rigid3d> predicted_velocity,
                                      bool tracker_initialized, bool want_overlay) {
-  Stopwatch total;
+  return FinishFrontEnd(id, timestamp_s, bgr, depth_m, Detect(bgr), predicted_velocity,
+                        tracker_initialized, want_overlay);
+}
+
+System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
+                                        const cv::Mat& depth_m, Detected detected,
+                                        std::optional<Rigid3d> predicted_velocity,
+                                        bool tracker_initialized, bool want_overlay) {
+  Stopwatch total, watch;
   FrontEnd front;
   FrameRecord& record = front.record;
   record.id = id;
   record.timestamp_s = timestamp_s;
-  cv::Mat gray;
-  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-
-  Stopwatch watch;
-  const KeypointSet set = extractor_.Detect(gray);
-  record.timing.detect_ms = watch.ElapsedMs();
+  const cv::Mat& gray = detected.gray;
+  const KeypointSet& set = detected.set;
+  record.timing.detect_ms = detected.detect_ms;
   record.num_keypoints = set.size();
   if (record_keypoints_) record.detected = set.keypoints;
 
@@ -224,7 +266,7 @@ System::FrontEnd System::RunFrontEnd(FrameId id, double timestamp_s, const cv::M
   front.features =
       std::make_shared<const FrameFeatures>(orb, depth_m, options_.sensor, extractor_.levels());
   record.timing.describe_ms = watch.ElapsedMs();
-  front.ms = total.ElapsedMs();
+  front.ms = detected.ms + total.ElapsedMs();
   return front;
 }
 

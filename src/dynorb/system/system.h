@@ -51,6 +51,12 @@ struct SystemOptions {
   // mask covers what they found (KeypointFilter::MaskCoversDetections: the semantic filter).
   bool refill_filtered = true;
   int refill_disk_px = 10;
+  // Pipelined front ends (ProcessFrame with frames ahead) on 1 worker thread (detection, filter,
+  // description of a frame one after the other) or 2: detection (grey image, ORB keypoints) on
+  // one, the filter, refill and description on the other, each in frame order, so frame k+1 is
+  // detected while frame k is filtered. Same results either way (the filter sees the same input).
+  // On 2 cores, 2 threads were no faster (session 25, docs/slam_core.md): hence 1.
+  int front_end_threads = 1;
   void Validate() const;  // Throws InputError.
 };
 
@@ -147,6 +153,20 @@ class System {
                                                     // judge the frame and the map is not initialized.
     double ms = 0.0;
   };
+  // The front end's first stage: the grey image and its ORB keypoints (touches only the extractor,
+  // which is immutable: may run concurrently with the second stage of an earlier frame).
+  struct Detected {
+    cv::Mat gray;
+    KeypointSet set;
+    double detect_ms = 0.0;  // ORB detection
+    double ms = 0.0;         // the whole stage
+  };
+  Detected Detect(const cv::Mat& bgr) const;
+  // The second stage: the filter, refill and description.
+  FrontEnd FinishFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
+                          const cv::Mat& depth_m, Detected detected,
+                          std::optional<Rigid3d> predicted_velocity, bool tracker_initialized,
+                          bool want_overlay);
   FrontEnd RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                        std::optional<Rigid3d> predicted_velocity, bool tracker_initialized, bool want_overlay);
   void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features);
@@ -176,12 +196,15 @@ class System {
     std::future<FrontEnd> result;
   };
   std::deque<Pending> pending_;
-  // The worker: runs the queued front ends one after the other, in frame order (the filter and
-  // the extractor carry state from frame to frame). Started on the first pipelined call.
+  // The workers: run the queued front ends one after the other, in frame order (the filter
+  // carries state from frame to frame). Started on the first pipelined call. With
+  // front_end_threads 2, detect_thread_ runs the first stage and front_thread_ waits for it.
   void StartFrontEnd(const NextFrame& frame);
   void StopFrontEndWorker();
   std::unique_ptr<BlockingQueue<std::packaged_task<FrontEnd()>>> front_jobs_;
   std::thread front_thread_;
+  std::unique_ptr<BlockingQueue<std::packaged_task<Detected()>>> detect_jobs_;
+  std::thread detect_thread_;
 };
 
 }  // namespace dynorb

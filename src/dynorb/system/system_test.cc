@@ -192,12 +192,15 @@ struct PipelineRun {
   std::vector<FrameId> filter_order;  // Frame ids in the order the filter saw them.
 };
 
-// depth 0: no pipelining; depth D: the front ends of the next D frames are handed in each call.
-PipelineRun RunSliding(int depth, int frames) {
+// depth 0: no pipelining; depth D: the front ends of the next D frames are handed in each call,
+// run on `threads` worker threads (SystemOptions::front_end_threads).
+PipelineRun RunSliding(int depth, int frames, int threads = 1) {
   FeatureWorld world(1);
   const SlidingCamera camera;
   PipelineRun run;
-  System system(Options(world, RunMode::kSequential), std::make_unique<PredictionRecorder>(&run.predictions, &run.filter_order));
+  SystemOptions options = Options(world, RunMode::kSequential);
+  options.front_end_threads = threads;
+  System system(options, std::make_unique<PredictionRecorder>(&run.predictions, &run.filter_order));
   for (int k = 0; k < frames; ++k) {
     std::vector<System::NextFrame> ahead;
     for (int j = k + 1; j <= k + depth && j < frames; ++j) ahead.push_back({j / 30.0, camera.Bgr(j), camera.Depth(), false});
@@ -244,6 +247,20 @@ TEST(System, DeeperPipelinesRunFrontEndsInOrderWithPredictionsDepthFramesOlder) 
   for (int depth : {2, 3}) {
     const PipelineRun piped = RunSliding(depth, 10);
     const PipelineRun again = RunSliding(depth, 10);
+    const PipelineRun two_threads = RunSliding(depth, 10, 2);
+    // Detection on its own thread changes nothing the filter or the tracker see.
+    ASSERT_EQ(two_threads.trajectory.size(), 10u) << depth;
+    EXPECT_EQ(two_threads.filter_order, piped.filter_order) << depth;
+    for (size_t i = 0; i < 10; ++i) {
+      EXPECT_EQ(two_threads.trajectory[i].world_from_cam.ToMatrix(),
+                piped.trajectory[i].world_from_cam.ToMatrix())
+          << depth << " " << i;
+      ASSERT_EQ(two_threads.predictions[i].has_value(), piped.predictions[i].has_value())
+          << depth << " " << i;
+      if (piped.predictions[i]) {
+        EXPECT_EQ(two_threads.predictions[i]->ToMatrix(), piped.predictions[i]->ToMatrix());
+      }
+    }
     ASSERT_EQ(piped.trajectory.size(), 10u) << depth;
     ASSERT_EQ(piped.predictions.size(), 10u) << depth;
     std::vector<FrameId> in_order(10);
@@ -329,11 +346,14 @@ class FailOnceFilter : public KeypointFilter {
 };
 
 TEST(System, AFailedPipelinedFrontEndRethrowsItsErrorAndDropsTheFramesAnnouncedAfterIt) {
-  for (int depth : {0, 1, 2}) {
+  for (int run = 0; run < 5; ++run) {
+    const int depth = run % 3, threads = run < 3 ? 2 : 1;  // depths 0, 1, 2 on 2 threads; 0, 1 on 1
     FeatureWorld world(1);
     const SlidingCamera camera;
     std::vector<double> seen;
-    System system(Options(world, RunMode::kSequential), std::make_unique<FailOnceFilter>(3, &seen));
+    SystemOptions options = Options(world, RunMode::kSequential);
+    options.front_end_threads = threads;
+    System system(options, std::make_unique<FailOnceFilter>(3, &seen));
     auto ahead_of = [&](int k) {
       std::vector<System::NextFrame> ahead;
       for (int j = k + 1; j <= k + depth; ++j) ahead.push_back({j / 30.0, camera.Bgr(j), camera.Depth(), false});
@@ -361,6 +381,17 @@ TEST(System, AFailedPipelinedFrontEndRethrowsItsErrorAndDropsTheFramesAnnouncedA
     ASSERT_GE(seen.size(), filtered_before + 4) << depth;
     for (int k = 5; k < 9; ++k) EXPECT_EQ(seen[filtered_before + (k - 5)], k / 30.0) << depth;
   }
+}
+
+TEST(System, RejectsFrontEndThreadsOtherThanOneOrTwo) {
+  FeatureWorld world(1);
+  SystemOptions options = Options(world, RunMode::kSequential);
+  for (int threads : {0, 3}) {
+    options.front_end_threads = threads;
+    EXPECT_THROW(options.Validate(), InputError) << threads;
+  }
+  options.front_end_threads = 1;
+  EXPECT_NO_THROW(options.Validate());
 }
 
 TEST(System, RejectsBadImages) {
