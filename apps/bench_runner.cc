@@ -101,6 +101,7 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   j["run_mode"] = plan.suite.run_mode;
   j["pipeline"] = plan.suite.pipeline;
   j["pipeline_depth"] = plan.suite.pipeline_depth;
+  j["front_end_threads"] = plan.suite.front_end_threads;
   j["preload"] = plan.suite.preload;
   j["sequences"] = nlohmann::json::array();
   for (const BenchSequenceRun& s : plan.sequences) {
@@ -277,6 +278,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       request.run_mode = plan.suite.run_mode;
       request.pipeline = plan.suite.pipeline;
       request.pipeline_depth = plan.suite.pipeline_depth;
+      request.front_end_threads = plan.suite.front_end_threads;
       request.preload = plan.suite.preload;
       request.seed = run.seed;
       request.frames = seq.frames;

@@ -199,6 +199,9 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
                       (suite.contains("pipeline_depth") && suite.value("pipeline", false)
                            ? " (depth " + std::to_string(suite["pipeline_depth"].get<int>()) + ")"
                            : "") +
+                      (suite.value("front_end_threads", 1) == 2 && suite.value("pipeline", false)
+                           ? ", 2 front-end threads"
+                           : "") +
                       (suite.value("preload", false) ? ", frames preloaded (live-camera timing)" : "") +
                       ", seeds " +
                       suite["seeds"].dump());

@@ -123,6 +123,7 @@ cat >"$DIR/tiny.yaml" <<'EOF'
 name: tiny
 repeats: 1
 preload: true
+front_end_threads: 2
 sequences:
   - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true}}
 modes:
@@ -176,8 +177,10 @@ assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone s
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 grep -qF "run mode sequential, pipeline on (depth 4)," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
-grep -qF "pipeline on (depth 4), frames preloaded (live-camera timing)," "$OUT/report.md" ||
-  fail "tiny report does not say the frames were preloaded"
+grep -qF "pipeline on (depth 4), 2 front-end threads, frames preloaded (live-camera timing)," "$OUT/report.md" ||
+  fail "tiny report does not say the frames were preloaded on 2 front-end threads"
+grep -qF '"front_end_threads": 2' "$OUT/runs/syn/plain/seed1/stats.json" ||
+  fail "the tiny suite's runs did not use 2 front-end threads"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||

@@ -130,8 +130,9 @@ class Parser {
 
   BenchSuite Suite(const YAML::Node& root) const {
     if (!root || root.IsNull()) throw InputError(source_ + ": empty suite file");
-    CheckKeys(root, {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth", "preload", "sequences",
-               "modes"},
+    CheckKeys(root,
+              {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth",
+               "front_end_threads", "preload", "sequences", "modes"},
               "the suite");
     BenchSuite suite;
     suite.file = source_;
@@ -156,6 +157,11 @@ class Parser {
       if (suite.pipeline_depth > kMaxPipelineDepth) {
         Fail(root["pipeline_depth"], "'pipeline_depth' must be 1.." + std::to_string(kMaxPipelineDepth));
       }
+    }
+    if (root["front_end_threads"]) {
+      suite.front_end_threads = PositiveInt(root["front_end_threads"], "front_end_threads", 1);
+      if (suite.front_end_threads > 2)
+        Fail(root["front_end_threads"], "'front_end_threads' must be 1 or 2");
     }
     if (root["preload"]) suite.preload = Bool(root["preload"], "preload");
     const YAML::Node seqs = root["sequences"];
