@@ -70,21 +70,18 @@ void System::StartFrontEnd(const NextFrame& frame) {
   // Called while frame next_frame_id_ is being processed, after its own front end was taken.
   const FrameId id = next_frame_id_ + static_cast<FrameId>(pending_.size()) + 1;
   const bool initialized = tracker_.state() != TrackingState::kNotInitialized;
-  std::packaged_task<FrontEnd()> job;
+  std::future<Detected> detected;  // Split: stage 1 runs on the detection thread.
   if (split) {
     std::packaged_task<Detected()> detect([this, bgr = frame.bgr] { return Detect(bgr); });
-    job = std::packaged_task<FrontEnd()>([this, id, frame, velocity = last_velocity_, initialized,
-                                          detected = detect.get_future()]() mutable {
-      return FinishFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, detected.get(),
-                            velocity, initialized, frame.want_overlay);
-    });
+    detected = detect.get_future();
     detect_jobs_->Push(std::move(detect));
-  } else {
-    job = std::packaged_task<FrontEnd()>([this, id, frame, velocity = last_velocity_, initialized] {
-      return RunFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m, velocity, initialized,
-                         frame.want_overlay);
-    });
   }
+  std::packaged_task<FrontEnd()> job([this, id, frame, velocity = last_velocity_, initialized,
+                                      detected = std::move(detected)]() mutable {
+    return FinishFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m,
+                          detected.valid() ? detected.get() : Detect(frame.bgr), velocity,
+                          initialized, frame.want_overlay);
+  });
   pending_.push_back({frame.timestamp_s, job.get_future()});
   front_jobs_->Push(std::move(job));
 }
