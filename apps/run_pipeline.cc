@@ -83,6 +83,10 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "established observations needed before provisional ones are held back")
       .Add("provisional_gate_factor", &t->pose.provisional_gate_factor,
            "chi2 gate factor (0..1] for provisional landmarks joining the established pose")
+      .Add("motion_prior_sigma_m", &t->motion_prior_sigma_m,
+           "prior on the camera centre from a smoothed constant-velocity model, standard deviation (m; 0: off)")
+      .Add("motion_prior_velocity_gain", &t->motion_prior_velocity_gain,
+           "gain (0..1] of the exponential average of the camera centre's velocity")
       .OnLoaded([t] { t->Validate(); });
   schema->Section("mapping", "Local mapper (docs/slam_core.md)")
       .Add("local_bundle_adjustment", &m->local_bundle_adjustment, "run local BA")
@@ -91,6 +95,11 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("ba_first_iterations", &m->bundle_adjustment.first_iterations, "robust LM iterations")
       .Add("ba_second_iterations", &m->bundle_adjustment.second_iterations, "LM iterations without outliers")
       .Add("keyframe_culling", &m->keyframe_culling, "cull redundant keyframes")
+      .Add("redundant_ratio", &m->redundant_ratio,
+           "a keyframe is redundant when this fraction of its close landmarks ...")
+      .Add("redundant_observers", &m->redundant_observers, "... is seen by at least this many other keyframes")
+      .Add("min_found_ratio", &m->min_found_ratio,
+           "recent landmarks found in fewer than this fraction of the frames that predicted them are culled")
       .Add("triangulation_neighbours", &m->triangulation_neighbours, "covisibles searched for new points")
       .Add("free_space_ratio", &m->free_space_ratio,
            "reject triangulations nearer than this fraction of the depth measured around a depthless keypoint (0: off)")

@@ -7,6 +7,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
+#include <ceres/sized_cost_function.h>
 #include <ceres/solver.h>
 #include <glog/logging.h>
 
@@ -15,6 +16,46 @@
 #include "dynorb/optimization/robust_problem.h"
 
 namespace dynorb {
+
+namespace {
+
+// (centre - prior) / sigma with centre = -R^T t. Tangent Jacobian (pose_block.h: t <- t + dt,
+// R <- R Exp(dtheta)): d centre / dt = -R^T, d centre / dtheta = [centre]_x.
+class CentrePriorCost final : public ceres::SizedCostFunction<3, kPoseBlockSize> {
+ public:
+  explicit CentrePriorCost(const CentrePrior& prior) : prior_(prior) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const Rigid3d cam_from_world = FromPoseBlock(parameters[0]);
+    const Eigen::Matrix3d world_from_cam_rotation =
+        cam_from_world.rotation.toRotationMatrix().transpose();
+    const Eigen::Vector3d centre = -(world_from_cam_rotation * cam_from_world.translation);
+    const double inv_sigma = 1.0 / prior_.sigma_m;
+    Eigen::Map<Eigen::Vector3d> r(residuals);
+    r = inv_sigma * (centre - prior_.centre_in_world);
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 3, kPoseBlockSize, Eigen::RowMajor>> j(jacobians[0]);
+      j.setZero();
+      j.block<3, 3>(0, 0) = -inv_sigma * world_from_cam_rotation;
+      Eigen::Matrix3d skew;
+      skew << 0.0, -centre.z(), centre.y(), centre.z(), 0.0, -centre.x(), -centre.y(), centre.x(),
+          0.0;
+      j.block<3, 3>(0, 3) = inv_sigma * skew;
+    }
+    return true;
+  }
+
+ private:
+  CentrePrior prior_;
+};
+
+}  // namespace
+
+ceres::CostFunction* NewCentrePriorCost(const CentrePrior& prior) {
+  CHECK(prior.sigma_m > 0.0 && prior.huber_sigmas > 0.0)
+      << "centre prior: sigma and Huber width > 0";
+  return new CentrePriorCost(prior);
+}
 
 void PoseOptimizerOptions::Validate() const {
   if (num_rounds < 1 || iterations_per_round < 1 || robust_rounds < 0 || chi2_mono <= 0.0 ||
@@ -26,7 +67,8 @@ void PoseOptimizerOptions::Validate() const {
 
 PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                                  const std::vector<PoseObservation>& observations,
-                                 const Rigid3d& initial_cam_from_world, const PoseOptimizerOptions& options) {
+                                 const Rigid3d& initial_cam_from_world,
+                                 const PoseOptimizerOptions& options, const CentrePrior* prior) {
   PoseOptimizerResult result;
   result.cam_from_world = initial_cam_from_world;
   result.inlier.assign(observations.size(), true);
@@ -36,9 +78,15 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   // One problem for all rounds: Huber kernels behind wrappers (switched to L2 after the robust
   // rounds); each round removes the blocks of new outliers and re-adds returning inliers.
   StagedLosses losses(options.chi2_mono, options.chi2_stereo);
+  std::unique_ptr<ceres::HuberLoss>
+      prior_loss;  // Outlives the problem (which does not own losses).
+  if (prior != nullptr) prior_loss = std::make_unique<ceres::HuberLoss>(prior->huber_sigmas);
   ceres::Problem problem(StagedProblemOptions());
   problem.AddParameterBlock(pose.data(), kPoseBlockSize, NewPoseManifold());
   std::vector<ceres::ResidualBlockId> blocks(observations.size(), nullptr);
+  if (prior != nullptr)
+    problem.AddResidualBlock(NewCentrePriorCost(*prior), prior_loss.get(), pose.data());
+  const int prior_blocks = prior != nullptr ? 1 : 0;
   ceres::Solver::Options solver_options;
   // Six unknowns: the normal equations are tiny and well conditioned, Cholesky beats QR.
   solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
@@ -68,7 +116,7 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
       blocks[i] = problem.AddResidualBlock(NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world),
                                            losses.For(obs.keypoint.IsStereo()), pose.data());
     }
-    if (problem.NumResidualBlocks() < 3) break;
+    if (problem.NumResidualBlocks() - prior_blocks < 3) break;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
 

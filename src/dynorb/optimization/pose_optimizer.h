@@ -21,6 +21,10 @@
 #include "dynorb/core/rigid3.h"
 #include "dynorb/optimization/reprojection_cost.h"
 
+namespace ceres {
+class CostFunction;
+}
+
 namespace dynorb {
 
 struct PoseOptimizerOptions {
@@ -35,6 +39,22 @@ struct PoseOptimizerOptions {
   double provisional_gate_factor = 0.25;
   void Validate() const;            // Throws InputError on nonsense values.
 };
+
+// Optional prior on where the camera is (its centre in the world frame), e.g. a smoothed
+// motion model's prediction: residual (centre(cam_from_world) - centre_in_world) / sigma_m, in the
+// chi^2 units of the reprojection residuals, behind a Huber kernel at `huber_sigmas`. It takes
+// part in every round and is never an outlier. Where the points pin the pose it changes almost
+// nothing; it damps the directions they leave loose (a sideways shift traded against a turn when
+// the near structure is hidden).
+struct CentrePrior {
+  Eigen::Vector3d centre_in_world = Eigen::Vector3d::Zero();
+  double sigma_m = 0.001;
+  double huber_sigmas = 3.0;
+};
+
+// The prior's cost (3 residuals on the pose block of pose_block.h), for solvers and tests; the
+// caller or a ceres::Problem takes ownership.
+ceres::CostFunction* NewCentrePriorCost(const CentrePrior& prior);
 
 struct PoseObservation {
   Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
@@ -51,7 +71,8 @@ struct PoseOptimizerResult {
 PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                                  const std::vector<PoseObservation>& observations,
                                  const Rigid3d& initial_cam_from_world,
-                                 const PoseOptimizerOptions& options = {});
+                                 const PoseOptimizerOptions& options = {},
+                                 const CentrePrior* prior = nullptr);
 
 // Plain least-squares refinement (no robust kernel, no outlier rounds, unit weights) of
 // cam_from_world from the monocular pixels of points given in world coordinates:

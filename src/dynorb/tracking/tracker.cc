@@ -17,6 +17,11 @@ void TrackerOptions::Validate() const {
       close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }
+  if (!(motion_prior_sigma_m >= 0.0) ||
+      !(motion_prior_velocity_gain > 0.0 && motion_prior_velocity_gain <= 1.0)) {
+    throw InputError(
+        "tracking: motion_prior_sigma_m must be >= 0 and motion_prior_velocity_gain in (0, 1]");
+  }
   pose.Validate();
 }
 
@@ -54,6 +59,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   if (state_ == TrackingState::kOk) {
     RefreshLandmarkPoints(&last_frame_);
     const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
+    PredictCentre(frame, just_relocalized);
     if (velocity_ && !just_relocalized) {
       ok = TrackWithMotionModel(&frame);
       if (!ok) ok = TrackReferenceKeyframe(&frame);
@@ -61,6 +67,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       ok = TrackReferenceKeyframe(&frame);
     }
   } else {
+    centre_prior_.reset();
     ok = Relocalize(&frame);
     if (ok) {
       result.relocalized = true;
@@ -80,6 +87,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   result.num_inliers = inliers;
   if (ok) {
     if (last_frame_.features) velocity_ = frame.cam_from_world * last_frame_.cam_from_world.Inverse();
+    UpdateCentreVelocity(frame, result.relocalized);
     result.pose_valid = true;
     result.cam_from_world = frame.cam_from_world;
     for (size_t i = 0; i < frame.landmarks.size(); ++i) {
@@ -93,11 +101,57 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
     }
     result.reference_keyframe = reference_keyframe_;
+    if (options_.motion_prior_sigma_m > 0.0) {
+      last_reference_keyframe_ = reference_keyframe_;
+      last_from_reference_ = map_->Read([&](const MapData& map) {
+        return map.HasKeyframe(reference_keyframe_)
+                   ? frame.cam_from_world *
+                         map.keyframe(reference_keyframe_).cam_from_world.Inverse()
+                   : Rigid3d();
+      });
+    }
     last_frame_ = std::move(frame);
   } else {
     velocity_.reset();
+    centre_velocity_.reset();
   }
   return result;
+}
+
+void Tracker::PredictCentre(const Frame& frame, bool just_relocalized) {
+  centre_prior_.reset();
+  const double dt = frame.timestamp_s - last_frame_.timestamp_s;
+  if (options_.motion_prior_sigma_m <= 0.0 || !centre_velocity_ || just_relocalized || !(dt > 0.0))
+    return;
+  CentrePrior prior;
+  prior.centre_in_world = LastFramePoseNow().Inverse().translation + dt * *centre_velocity_;
+  prior.sigma_m = options_.motion_prior_sigma_m;
+  centre_prior_ = prior;
+}
+
+Rigid3d Tracker::LastFramePoseNow() const {
+  return map_->Read([&](const MapData& map) {
+    return map.HasKeyframe(last_reference_keyframe_)
+               ? last_from_reference_ * map.keyframe(last_reference_keyframe_).cam_from_world
+               : last_frame_.cam_from_world;
+  });
+}
+
+void Tracker::UpdateCentreVelocity(const Frame& frame, bool relocalized) {
+  if (options_.motion_prior_sigma_m <= 0.0) return;
+  const double dt = frame.timestamp_s - last_frame_.timestamp_s;
+  // After relocalisation the last tracked frame may be anywhere: the velocity starts again.
+  if (relocalized || !last_frame_.features || !(dt > 0.0)) {
+    centre_velocity_.reset();
+    return;
+  }
+  const Eigen::Vector3d velocity =
+      (frame.cam_from_world.Inverse().translation - LastFramePoseNow().Inverse().translation) / dt;
+  if (!centre_velocity_) {
+    centre_velocity_ = velocity;
+  } else {
+    *centre_velocity_ += options_.motion_prior_velocity_gain * (velocity - *centre_velocity_);
+  }
 }
 
 bool Tracker::Initialize(Frame* frame, std::vector<int>* created) {
@@ -152,7 +206,9 @@ int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
       return 0;
     });
   }
-  const PoseOptimizerResult r = OptimizePose(sensor_.camera, sensor_.bf, observations, frame->cam_from_world, options_.pose);
+  const PoseOptimizerResult r =
+      OptimizePose(sensor_.camera, sensor_.bf, observations, frame->cam_from_world, options_.pose,
+                   centre_prior_ ? &*centre_prior_ : nullptr);
   frame->cam_from_world = r.cam_from_world;
   for (size_t k = 0; k < index.size(); ++k) {
     frame->outlier[index[k]] = !r.inlier[k];

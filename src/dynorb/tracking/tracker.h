@@ -61,6 +61,10 @@ class Tracker {
   // `created` (optional) receives the indices of the keypoints that became new landmarks.
   KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created = nullptr);
   void RefreshLandmarkPoints(Frame* frame) const;
+  // Sets centre_prior_ for `frame` (or clears it) / updates the centre velocity after it was
+  // tracked.
+  void PredictCentre(const Frame& frame, bool just_relocalized);
+  void UpdateCentreVelocity(const Frame& frame, bool relocalized);
 
   RgbdSensor sensor_;
   TrackerOptions options_;
@@ -68,6 +72,15 @@ class Tracker {
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame last_frame_;
   std::optional<Rigid3d> velocity_;  // current_from_last (cam_from_cam).
+  // Motion prior (options_.motion_prior_sigma_m > 0): the smoothed velocity of the camera centre
+  // (world frame, m/s) and the prior of the frame being tracked.
+  std::optional<Eigen::Vector3d> centre_velocity_;
+  std::optional<CentrePrior> centre_prior_;
+  // The last frame's pose relative to its reference keyframe, so that the prior follows the
+  // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).
+  KeyframeId last_reference_keyframe_ = kNoKeyframe;
+  Rigid3d last_from_reference_;
+  Rigid3d LastFramePoseNow() const;
   KeyframeId reference_keyframe_ = kNoKeyframe;
   FrameId last_keyframe_frame_ = 0;
   FrameId last_relocalization_frame_ = 0;

@@ -35,6 +35,12 @@ struct TrackerOptions {
   int provisional_min_found = 3;
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
   int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
+  // Motion prior on the camera centre (0: off). Every pose solve of a tracked frame also weighs
+  // where a smoothed constant-velocity model puts the camera centre, with this standard deviation
+  // (m); the velocity (m/s) is an exponential average of the tracked centres' motion with this
+  // gain.
+  double motion_prior_sigma_m = 0.0;
+  double motion_prior_velocity_gain = 0.5;
   uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
   PoseOptimizerOptions pose;
   MatcherOptions matcher;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dynorb/core/error.h"
 #include "dynorb/tracking/projection_search.h"
 #include "dynorb/tracking/test_world.h"
 #include "dynorb/tracking/tracker.h"
@@ -110,6 +111,60 @@ TEST_F(TrackerTest, RelocalizesAfterLosingTrack) {
   EXPECT_LT(TranslationError(r.cam_from_world, testing::TruthInFirstCamera(25)), 0.02);
   // And tracking continues from there.
   for (int k = 26; k < 35; ++k) EXPECT_TRUE(Feed(tracker, k, id++).pose_valid) << k;
+}
+
+// The motion prior (a smoothed constant-velocity model of the camera centre) on the same path:
+// still accurate, the poses differ from the run without it (the prior takes part), and it
+// survives losing track: relocalisation starts without a prior, tracking goes on with it.
+TEST_F(TrackerTest, MotionPriorTracksAndRelocalizes) {
+  TrackerOptions options;
+  options.motion_prior_sigma_m = 0.004;
+  Map map, plain_map;
+  Tracker tracker(world_.sensor(), options, &map);
+  Tracker plain(world_.sensor(), TrackerOptions(), &plain_map);
+  double max_t = 0.0, max_r = 0.0;
+  int differ = 0;
+  FrameId id = 0;
+  for (int k = 0; k < 60; ++k, ++id) {
+    const TrackingResult r = Feed(tracker, k, id);
+    const TrackingResult p = Feed(plain, k, id);
+    ASSERT_TRUE(r.pose_valid) << "frame " << k;
+    max_t = std::max(max_t, TranslationError(r.cam_from_world, testing::TruthInFirstCamera(k)));
+    max_r = std::max(max_r, RotationErrorDeg(r.cam_from_world, testing::TruthInFirstCamera(k)));
+    differ += r.cam_from_world.ToMatrix() != p.cam_from_world.ToMatrix() ? 1 : 0;
+  }
+  EXPECT_LT(max_t, 0.02);
+  EXPECT_LT(max_r, 0.5);
+  EXPECT_GT(differ, 30);
+  OrbFeatures empty;
+  empty.descriptors = cv::Mat(0, 32, CV_8U);
+  Frame blank(id++, 60 / 30.0,
+              std::make_shared<const FrameFeatures>(empty, std::vector<float>{}, world_.sensor(),
+                                                    ScaleLevels(8, 1.2)));
+  EXPECT_FALSE(tracker.ProcessOne(std::move(blank), true).pose_valid);
+  const TrackingResult r = Feed(tracker, 25, id++);
+  ASSERT_TRUE(r.pose_valid);
+  EXPECT_TRUE(r.relocalized);
+  EXPECT_LT(TranslationError(r.cam_from_world, testing::TruthInFirstCamera(25)), 0.02);
+  for (int k = 26; k < 35; ++k) {
+    const TrackingResult next = Feed(tracker, k, id++);
+    ASSERT_TRUE(next.pose_valid) << k;
+    EXPECT_LT(TranslationError(next.cam_from_world, testing::TruthInFirstCamera(k)), 0.02) << k;
+  }
+}
+
+TEST(TrackerOptions, RejectsABadMotionPrior) {
+  TrackerOptions options;
+  options.motion_prior_sigma_m = -0.001;
+  EXPECT_THROW(options.Validate(), InputError);
+  options = TrackerOptions();
+  options.motion_prior_velocity_gain = 0.0;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.motion_prior_velocity_gain = 1.5;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.motion_prior_velocity_gain = 1.0;
+  options.motion_prior_sigma_m = 0.004;
+  EXPECT_NO_THROW(options.Validate());
 }
 
 TEST_F(TrackerTest, SequentialRunIsDeterministic) {
