@@ -35,14 +35,13 @@ struct TrackerOptions {
   int provisional_min_found = 3;
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
   int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
-  // Motion prior on the camera centre (0: off). Every pose solve of a tracked frame also weighs
-  // where a smoothed constant-velocity model puts the camera centre, with this standard deviation
-  // (m); the velocity (m/s) is an exponential average of the tracked centres' motion with this
-  // gain. With 0.004 / 0.05, over 12 dynamic sequences and their twins (docs/results.md,
-  // session 26): mean ATE -3.5 % (twins), -9 % (FAST, semantic), -11 % (fused) on 300 frames;
-  // not the default yet (it biases a steadily accelerating path, see docs/slam_core.md).
-  double motion_prior_sigma_m = 0.0;
-  double motion_prior_velocity_gain = 0.05;
+  // Motion prior on the camera centre (0: off = ORB-SLAM2). Every pose solve of a tracked frame
+  // also weighs where a smoothed constant-velocity model puts the camera centre, with this
+  // standard deviation (m); the velocity (m/s) is an exponential average of the tracked centres'
+  // motion with this gain. Measured over 12 dynamic sequences and their twins (docs/results.md,
+  // session 26): mean ATE -7 % (twins), -4 % (FAST), -7..-11 % (semantic, fused).
+  double motion_prior_sigma_m = 0.004;
+  double motion_prior_velocity_gain = 0.1;
   uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
   PoseOptimizerOptions pose;
   MatcherOptions matcher;
