@@ -125,7 +125,11 @@ void Tracker::PredictCentre(const Frame& frame, bool just_relocalized) {
     return;
   CentrePrior prior;
   prior.centre_in_world = LastFramePoseNow().Inverse().translation + dt * *centre_velocity_;
-  prior.sigma_m = options_.motion_prior_sigma_m;
+  // Dropped frames (an interval over 1.5 times the last one; timestamp jitter stays below): the
+  // acceleration the model ignores moves the camera by up to (dt / interval)^2 times more.
+  const double stretch =
+      centre_interval_s_ > 0.0 && dt > 1.5 * centre_interval_s_ ? dt / centre_interval_s_ : 1.0;
+  prior.sigma_m = options_.motion_prior_sigma_m * stretch * stretch;
   centre_prior_ = prior;
 }
 
@@ -143,8 +147,10 @@ void Tracker::UpdateCentreVelocity(const Frame& frame, bool relocalized) {
   // After relocalisation the last tracked frame may be anywhere: the velocity starts again.
   if (relocalized || !last_frame_.features || !(dt > 0.0)) {
     centre_velocity_.reset();
+    centre_interval_s_ = 0.0;
     return;
   }
+  centre_interval_s_ = dt;
   const Eigen::Vector3d velocity =
       (frame.cam_from_world.Inverse().translation - LastFramePoseNow().Inverse().translation) / dt;
   if (!centre_velocity_) {

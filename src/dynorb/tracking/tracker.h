@@ -75,6 +75,7 @@ class Tracker {
   // Motion prior (options_.motion_prior_sigma_m > 0): the smoothed velocity of the camera centre
   // (world frame, m/s) and the prior of the frame being tracked.
   std::optional<Eigen::Vector3d> centre_velocity_;
+  double centre_interval_s_ = 0.0;  // Interval between the last two tracked frames (0: none yet).
   std::optional<CentrePrior> centre_prior_;
   // The last frame's pose relative to its reference keyframe, so that the prior follows the
   // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).

@@ -157,6 +157,27 @@ TEST_F(TrackerTest, MotionPriorTracksAndRelocalizes) {
   }
 }
 
+// Dropped frames: after a gap of 12 frame intervals the constant-velocity prediction misses the
+// acceleration of this path by centimetres; the prior widens with the gap (squared) instead of
+// pulling the poses after the gap toward it.
+TEST_F(TrackerTest, MotionPriorWidensOverDroppedFrames) {
+  TrackerOptions options;
+  options.motion_prior_sigma_m = 0.004;
+  options.motion_prior_velocity_gain = 0.2;
+  Map map;
+  Tracker tracker(world_.sensor(), options, &map);
+  double worst = 0.0;
+  for (int k :
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 32, 33, 34, 35}) {
+    const TrackingResult r = Feed(tracker, k, k);
+    ASSERT_TRUE(r.pose_valid) << "frame " << k;
+    if (k >= 32)
+      worst = std::max(worst, TranslationError(r.cam_from_world, testing::TruthInFirstCamera(k)));
+  }
+  // Measured: 9.9 mm; 14.1 mm without a prior; 31.7 mm with a prior that does not widen.
+  EXPECT_LT(worst, 0.015);
+}
+
 TEST(TrackerOptions, RejectsABadMotionPrior) {
   TrackerOptions options;
   options.motion_prior_sigma_m = -0.001;
