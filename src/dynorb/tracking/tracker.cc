@@ -35,7 +35,10 @@ const char* ToString(TrackingState state) {
 }
 
 Tracker::Tracker(const RgbdSensor& sensor, const TrackerOptions& options, Map* map)
-    : sensor_(sensor), options_(options), map_(map) {
+    : sensor_(sensor),
+      options_(options),
+      map_(map),
+      centre_model_(options.motion_prior_sigma_m, options.motion_prior_velocity_gain) {
   options_.Validate();
 }
 
@@ -101,7 +104,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
     }
     result.reference_keyframe = reference_keyframe_;
-    if (options_.motion_prior_sigma_m > 0.0) {
+    if (centre_model_.enabled()) {
       last_reference_keyframe_ = reference_keyframe_;
       last_from_reference_ = map_->Read([&](const MapData& map) {
         return map.HasKeyframe(reference_keyframe_)
@@ -113,24 +116,16 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     last_frame_ = std::move(frame);
   } else {
     velocity_.reset();
-    centre_velocity_.reset();
+    centre_model_.Reset();
   }
   return result;
 }
 
 void Tracker::PredictCentre(const Frame& frame, bool just_relocalized) {
   centre_prior_.reset();
-  const double dt = frame.timestamp_s - last_frame_.timestamp_s;
-  if (options_.motion_prior_sigma_m <= 0.0 || !centre_velocity_ || just_relocalized || !(dt > 0.0))
-    return;
-  CentrePrior prior;
-  prior.centre_in_world = LastFramePoseNow().Inverse().translation + dt * *centre_velocity_;
-  // Dropped frames (an interval over 1.5 times the last one; timestamp jitter stays below): the
-  // acceleration the model ignores moves the camera by up to (dt / interval)^2 times more.
-  const double stretch =
-      centre_interval_s_ > 0.0 && dt > 1.5 * centre_interval_s_ ? dt / centre_interval_s_ : 1.0;
-  prior.sigma_m = options_.motion_prior_sigma_m * stretch * stretch;
-  centre_prior_ = prior;
+  if (!centre_model_.enabled() || just_relocalized) return;
+  centre_prior_ = centre_model_.Predict(LastFramePoseNow().Inverse().translation,
+                                        frame.timestamp_s - last_frame_.timestamp_s);
 }
 
 Rigid3d Tracker::LastFramePoseNow() const {
@@ -142,22 +137,15 @@ Rigid3d Tracker::LastFramePoseNow() const {
 }
 
 void Tracker::UpdateCentreVelocity(const Frame& frame, bool relocalized) {
-  if (options_.motion_prior_sigma_m <= 0.0) return;
+  if (!centre_model_.enabled()) return;
   const double dt = frame.timestamp_s - last_frame_.timestamp_s;
   // After relocalisation the last tracked frame may be anywhere: the velocity starts again.
   if (relocalized || !last_frame_.features || !(dt > 0.0)) {
-    centre_velocity_.reset();
-    centre_interval_s_ = 0.0;
+    centre_model_.Reset();
     return;
   }
-  centre_interval_s_ = dt;
-  const Eigen::Vector3d velocity =
-      (frame.cam_from_world.Inverse().translation - LastFramePoseNow().Inverse().translation) / dt;
-  if (!centre_velocity_) {
-    centre_velocity_ = velocity;
-  } else {
-    *centre_velocity_ += options_.motion_prior_velocity_gain * (velocity - *centre_velocity_);
-  }
+  centre_model_.Update(frame.cam_from_world.Inverse().translation,
+                       LastFramePoseNow().Inverse().translation, dt);
 }
 
 bool Tracker::Initialize(Frame* frame, std::vector<int>* created) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "dynorb/map/map.h"
+#include "dynorb/tracking/centre_motion_model.h"
 #include "dynorb/tracking/frame.h"
 #include "dynorb/tracking/tracker_options.h"
 
@@ -72,10 +73,9 @@ class Tracker {
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame last_frame_;
   std::optional<Rigid3d> velocity_;  // current_from_last (cam_from_cam).
-  // Motion prior (options_.motion_prior_sigma_m > 0): the smoothed velocity of the camera centre
-  // (world frame, m/s) and the prior of the frame being tracked.
-  std::optional<Eigen::Vector3d> centre_velocity_;
-  double centre_interval_s_ = 0.0;  // Interval between the last two tracked frames (0: none yet).
+  // Motion prior (options_.motion_prior_sigma_m > 0): the centre's motion model and the prior of
+  // the frame being tracked.
+  CentreMotionModel centre_model_;
   std::optional<CentrePrior> centre_prior_;
   // The last frame's pose relative to its reference keyframe, so that the prior follows the
   // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "dynorb/core/error.h"
+#include "dynorb/tracking/centre_motion_model.h"
 #include "dynorb/tracking/projection_search.h"
 #include "dynorb/tracking/test_world.h"
 #include "dynorb/tracking/tracker.h"
@@ -176,6 +177,32 @@ TEST_F(TrackerTest, MotionPriorWidensOverDroppedFrames) {
   }
   // Measured: 9.9 mm; 14.1 mm without a prior; 31.7 mm with a prior that does not widen.
   EXPECT_LT(worst, 0.015);
+}
+
+TEST(CentreMotionModel, PredictsAlongTheSmoothedVelocityAndWidensOverGaps) {
+  CentreMotionModel model(0.004, 0.5);
+  const Eigen::Vector3d c0(1.0, 2.0, 3.0), step(0.01, 0.0, -0.02);
+  EXPECT_FALSE(model.Predict(c0, 0.1).has_value());  // No velocity yet.
+  model.Update(c0 + step, c0, 0.1);                  // 0.1 m/s x, -0.2 m/s z.
+  std::optional<CentrePrior> prior = model.Predict(c0 + step, 0.1);
+  ASSERT_TRUE(prior.has_value());
+  EXPECT_LT((prior->centre_in_world - (c0 + 2.0 * step)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(prior->sigma_m, 0.004);
+  EXPECT_DOUBLE_EQ(model.Predict(c0, 0.14)->sigma_m, 0.004);       // Jitter: not a gap.
+  EXPECT_DOUBLE_EQ(model.Predict(c0, 0.3)->sigma_m, 0.004 * 9.0);  // Two dropped frames.
+  EXPECT_FALSE(model.Predict(c0, 0.0).has_value());
+  // Gain 0.5: halfway to a new velocity.
+  model.Update(c0 + 2.0 * step + Eigen::Vector3d(0.01, 0.0, 0.0), c0 + step, 0.1);
+  EXPECT_LT((model.Predict(Eigen::Vector3d::Zero(), 1.5)->centre_in_world -
+             1.5 * Eigen::Vector3d(0.15, 0.0, -0.2))
+                .norm(),
+            1e-12);
+  model.Reset();
+  EXPECT_FALSE(model.Predict(c0, 0.1).has_value());
+  CentreMotionModel off(0.0, 0.5);
+  off.Update(c0 + step, c0, 0.1);
+  EXPECT_FALSE(off.enabled());
+  EXPECT_FALSE(off.Predict(c0, 0.1).has_value());
 }
 
 TEST(TrackerOptions, RejectsABadMotionPrior) {
