@@ -76,6 +76,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("close_untracked_min", &t->close_untracked_min, "... and untracked close points above this")
       .Add("close_keyframe_min_frames", &t->close_keyframe_min_frames,
            "frames after a keyframe before 'need close points' may ask again")
+      .Add("new_close_points", &t->new_close_points,
+           "landmarks created from depth per new keyframe: all closer than ThDepth, at least this many nearest")
       .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")
       .Add("provisional_min_found", &t->provisional_min_found,
            "landmarks of one keyframe found in fewer frames must agree with the established map's pose (0: off)")

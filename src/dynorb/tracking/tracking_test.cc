@@ -219,6 +219,14 @@ TEST(TrackerOptions, RejectsABadMotionPrior) {
   EXPECT_NO_THROW(options.Validate());
 }
 
+TEST(TrackerOptions, RejectsNegativeNewClosePoints) {
+  TrackerOptions options;
+  options.new_close_points = -1;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.new_close_points = 0;
+  EXPECT_NO_THROW(options.Validate());
+}
+
 TEST_F(TrackerTest, SequentialRunIsDeterministic) {
   std::vector<Eigen::Matrix4d> runs[2];
   for (auto& poses : runs) {
