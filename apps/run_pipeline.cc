@@ -85,6 +85,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "established observations needed before provisional ones are held back")
       .Add("provisional_gate_factor", &t->pose.provisional_gate_factor,
            "chi2 gate factor (0..1] for provisional landmarks joining the established pose")
+      .Add("pose_min_gate_scale", &t->pose.min_gate_scale,
+           "the pose solve's chi2 gates follow the measured keypoint noise down to this scale (0..1]; 1: fixed 1-px gates")
       .Add("motion_prior_sigma_m", &t->motion_prior_sigma_m,
            "prior on the camera centre from a smoothed constant-velocity model, standard deviation (m; 0: off)")
       .Add("motion_prior_velocity_gain", &t->motion_prior_velocity_gain,

@@ -1,5 +1,6 @@
 #include "dynorb/optimization/pose_optimizer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <utility>
@@ -49,6 +50,22 @@ class CentrePriorCost final : public ceres::SizedCostFunction<3, kPoseBlockSize>
   CentrePrior prior_;
 };
 
+// The gates' scale from the observations inside the nominal gates after the first round
+// (PoseOptimizerOptions::min_gate_scale); 1 when too few.
+double MeasuredGateScale(const std::vector<PoseObservation>& observations,
+                         const std::vector<double>& chi2, const PoseOptimizerOptions& options) {
+  std::vector<double> inside;
+  std::vector<int> dof;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const bool stereo = observations[i].keypoint.IsStereo();
+    if (chi2[i] > (stereo ? options.chi2_stereo : options.chi2_mono)) continue;
+    inside.push_back(chi2[i]);
+    dof.push_back(stereo ? 3 : 2);
+  }
+  const std::optional<double> scale = EstimateNoiseScale(inside, dof);
+  return scale ? std::clamp(*scale, options.min_gate_scale, 1.0) : 1.0;
+}
+
 }  // namespace
 
 ceres::CostFunction* NewCentrePriorCost(const CentrePrior& prior) {
@@ -60,9 +77,29 @@ ceres::CostFunction* NewCentrePriorCost(const CentrePrior& prior) {
 void PoseOptimizerOptions::Validate() const {
   if (num_rounds < 1 || iterations_per_round < 1 || robust_rounds < 0 || chi2_mono <= 0.0 ||
       chi2_stereo <= 0.0 || min_established < 0 ||
-      !(provisional_gate_factor > 0.0 && provisional_gate_factor <= 1.0)) {
-    throw InputError("pose optimizer: rounds/iterations must be >= 1 and chi2 gates > 0");
+      !(provisional_gate_factor > 0.0 && provisional_gate_factor <= 1.0) ||
+      !(min_gate_scale > 0.0 && min_gate_scale <= 1.0)) {
+    throw InputError(
+        "pose optimizer: rounds/iterations must be >= 1, chi2 gates > 0, provisional_gate_factor "
+        "and min_gate_scale in (0, 1]");
   }
+}
+
+std::optional<double> EstimateNoiseScale(const std::vector<double>& chi2,
+                                         const std::vector<int>& dof) {
+  CHECK_EQ(chi2.size(), dof.size());
+  constexpr int kMinValues = 20;
+  if (static_cast<int>(chi2.size()) < kMinValues) return std::nullopt;
+  // Medians of the chi^2 distribution with 2 (2 ln 2) and 3 degrees of freedom.
+  constexpr double kMedian2 = 1.3862944, kMedian3 = 2.3659739;
+  std::vector<double> ratio(chi2.size());
+  for (size_t i = 0; i < chi2.size(); ++i) {
+    CHECK(dof[i] == 2 || dof[i] == 3) << "observations have 2 or 3 dof";
+    ratio[i] = chi2[i] / (dof[i] == 3 ? kMedian3 : kMedian2);
+  }
+  const auto middle = ratio.begin() + static_cast<std::ptrdiff_t>(ratio.size() / 2);
+  std::nth_element(ratio.begin(), middle, ratio.end());
+  return *middle;
 }
 
 PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
@@ -99,6 +136,7 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
   const bool hold_back_provisional = established >= options.min_established && options.robust_rounds > 0 &&
                                      options.robust_rounds < options.num_rounds;
 
+  std::vector<double> chi2(observations.size());
   for (int round = 0; round < options.num_rounds; ++round) {
     if (round == options.robust_rounds) {
       losses.SwitchToL2();
@@ -123,11 +161,22 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
     // Re-classify every observation (including earlier outliers) against the new pose.
     const Rigid3d cam_from_world = FromPoseBlock(pose.data());
     for (size_t i = 0; i < observations.size(); ++i) {
+      chi2[i] = ReprojectionChi2(camera, bf, observations[i].keypoint,
+                                 cam_from_world * observations[i].point_in_world);
+    }
+    if (round == 0 && options.min_gate_scale < 1.0) {
+      result.gate_scale = MeasuredGateScale(observations, chi2, options);
+      if (result.gate_scale < 1.0 && round + 1 < options.robust_rounds) {
+        losses.Rescale(options.chi2_mono * result.gate_scale,
+                       options.chi2_stereo * result.gate_scale);
+      }
+    }
+    for (size_t i = 0; i < observations.size(); ++i) {
       const PoseObservation& obs = observations[i];
-      double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      double gate =
+          (obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono) * result.gate_scale;
       if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
-      const double chi2 = ReprojectionChi2(camera, bf, obs.keypoint, cam_from_world * obs.point_in_world);
-      result.inlier[i] = chi2 <= gate;
+      result.inlier[i] = chi2[i] <= gate;
     }
   }
   result.cam_from_world = FromPoseBlock(pose.data());

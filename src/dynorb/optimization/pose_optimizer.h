@@ -11,6 +11,8 @@
 // provisional observation joins the plain rounds only if it agrees with that pose (chi^2 gate).
 // A mover that a keyframe turned into fresh landmarks thus cannot pull the next frame's pose by
 // up to a gate's width per point; in a static scene the fresh points still refine the pose.
+// The gates adapt to the measured keypoint noise (min_gate_scale below): this benchmark's keypoints
+// are localised to ~0.5 px, where the 1-px gates let slightly wrong matches and slow movers in.
 // Stateless and thread-safe; deterministic (single-threaded Ceres).
 #pragma once
 
@@ -37,6 +39,12 @@ struct PoseOptimizerOptions {
   // Provisional observations join only within this fraction of the chi^2 gate (0.25: half the
   // pixel distance). Measured over 12 dynamic sequences: mean ATE 5.87 -> 5.40 mm, twins 5.46 -> 4.79.
   double provisional_gate_factor = 0.25;
+  // Gates that follow the keypoints' measured noise. The chi^2 gates above assume sigma = 1 px at
+  // level 0 (ORB-SLAM2); after the first round the variance is estimated from the observations
+  // inside those gates (median of chi^2 over the median of chi^2 with their dof), and the gates
+  // and Huber widths of the later rounds are scaled by it, clamped to [min_gate_scale, 1].
+  // 1 = fixed gates (ORB-SLAM2). Measured on 12 dynamic sequences (docs/results.md, session 27).
+  double min_gate_scale = 0.3;
   void Validate() const;            // Throws InputError on nonsense values.
 };
 
@@ -66,7 +74,14 @@ struct PoseOptimizerResult {
   Rigid3d cam_from_world;
   std::vector<bool> inlier;  // One flag per observation.
   int num_inliers = 0;
+  double gate_scale = 1.0;  // The gates' scale after the first round (see min_gate_scale).
 };
+
+// The noise variance (in units of the observations' nominal sigma^2) estimated from chi^2 values
+// of observations with `dof` 2 or 3: the median of chi2_i / median(chi^2_{dof_i}). nullopt with
+// fewer than 20 values. Exposed for tests.
+std::optional<double> EstimateNoiseScale(const std::vector<double>& chi2,
+                                         const std::vector<int>& dof);
 
 PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                                  const std::vector<PoseObservation>& observations,

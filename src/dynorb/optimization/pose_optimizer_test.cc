@@ -1,5 +1,6 @@
 #include "dynorb/optimization/pose_optimizer.h"
 
+#include <algorithm>
 #include <memory>
 #include <random>
 
@@ -129,6 +130,7 @@ TEST(PoseOptimizer, ProvisionalObservationsPassATighterGate) {
   const ProvisionalScene s = MakeProvisionalScene(0.004);
   PoseOptimizerOptions full_gate;
   full_gate.provisional_gate_factor = 1.0;
+  full_gate.min_gate_scale = 1.0;  // Exact data: adaptive gates would shut the movers out too.
   const PoseOptimizerResult joined = OptimizePose(kCamera, kBf, s.observations, s.truth, full_gate);
   const PoseOptimizerResult tight = OptimizePose(kCamera, kBf, s.observations, s.truth);
   EXPECT_EQ(InliersByKind(s, joined)[2], 120);
@@ -268,6 +270,95 @@ TEST(PoseOptimizer, CentrePriorChangesLittleWhereThePointsPinThePose) {
   EXPECT_GE(pulled.num_inliers, free.num_inliers - 5);
 }
 
+// chi^2 values of residuals with standard deviation sigma (in units of the nominal sigma).
+std::vector<double> Chi2Sample(int count, int dof, double sigma, std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, sigma);
+  std::vector<double> chi2(count, 0.0);
+  for (double& c : chi2) {
+    for (int d = 0; d < dof; ++d) {
+      const double r = n(rng);
+      c += r * r;
+    }
+  }
+  return chi2;
+}
+
+TEST(PoseOptimizer, EstimateNoiseScaleRecoversTheVariance) {
+  std::mt19937_64 rng(3);
+  for (const double sigma : {0.5, 1.0, 1.5}) {
+    for (const int dof : {2, 3}) {
+      const std::vector<double> chi2 = Chi2Sample(4000, dof, sigma, rng);
+      const std::optional<double> scale =
+          EstimateNoiseScale(chi2, std::vector<int>(chi2.size(), dof));
+      ASSERT_TRUE(scale.has_value());
+      EXPECT_NEAR(*scale, sigma * sigma, 0.06 * sigma * sigma)
+          << "sigma " << sigma << ", dof " << dof;
+    }
+  }
+  // Mixed dof: each value against its own distribution.
+  std::vector<double> chi2 = Chi2Sample(2000, 2, 0.5, rng);
+  const std::vector<double> three = Chi2Sample(2000, 3, 0.5, rng);
+  chi2.insert(chi2.end(), three.begin(), three.end());
+  std::vector<int> dof(2000, 2);
+  dof.resize(4000, 3);
+  EXPECT_NEAR(*EstimateNoiseScale(chi2, dof), 0.25, 0.015);
+  EXPECT_FALSE(
+      EstimateNoiseScale(std::vector<double>(19, 1.0), std::vector<int>(19, 2)).has_value());
+}
+
+// Keypoints localised to 0.5 px, and 20 % of the matches slightly wrong: 1.5 px off in the same
+// direction (a slow mover, a neighbouring corner), inside the fixed 1-px gate (chi^2 4.5 < 7.8).
+// Fixed gates take them in and the pose follows them; gates scaled to the measured noise reject
+// them.
+TEST(PoseOptimizer, GatesFollowTheMeasuredNoise) {
+  std::mt19937_64 rng(17);
+  const Rigid3d truth = testing::Perturb(Rigid3d(), 0.1, 0.2, rng);
+  std::vector<PoseObservation> observations;
+  std::vector<bool> wrong;
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (const Eigen::Vector3d& p_cam : testing::RandomPointsInWorld(300, rng)) {
+    PoseObservation obs;
+    obs.point_in_world = truth.Inverse() * p_cam;
+    obs.keypoint = testing::Observe(kCamera, kBf, truth, obs.point_in_world, true, 0.5, rng);
+    wrong.push_back(u01(rng) < 0.2);
+    if (wrong.back()) {
+      obs.keypoint.uv.x() += 1.5;
+      obs.keypoint.u_right += 1.5;
+    }
+    observations.push_back(obs);
+  }
+  PoseOptimizerOptions fixed;
+  fixed.min_gate_scale = 1.0;
+  const PoseOptimizerResult with_fixed = OptimizePose(kCamera, kBf, observations, truth, fixed);
+  const PoseOptimizerResult adaptive = OptimizePose(kCamera, kBf, observations, truth);
+  auto wrong_kept = [&](const PoseOptimizerResult& r) {
+    int n = 0;
+    for (size_t i = 0; i < wrong.size(); ++i) n += wrong[i] && r.inlier[i] ? 1 : 0;
+    return n;
+  };
+  const int num_wrong = static_cast<int>(std::count(wrong.begin(), wrong.end(), true));
+  EXPECT_EQ(with_fixed.gate_scale, 1.0);
+  EXPECT_GT(wrong_kept(with_fixed), 0.9 * num_wrong);
+  EXPECT_LT(adaptive.gate_scale, 0.6);  // Measured 0.44: the wrong matches inflate the estimate.
+  EXPECT_LT(wrong_kept(adaptive), 0.35 * num_wrong);
+  EXPECT_GT(adaptive.num_inliers, 0.7 * (300 - num_wrong));
+  // The wrong matches turn the pose (a shift of every pixel is a turn); rejecting most of them
+  // halves that.
+  auto turn = [&](const PoseOptimizerResult& r) {
+    return RotationAngleRad((r.cam_from_world * truth.Inverse()).rotation);
+  };
+  EXPECT_LT(turn(adaptive), 0.6 * turn(with_fixed));  // Measured 0.16 against 0.33 mrad.
+}
+
+// Keypoints at the nominal 1 px: the measured scale stays near 1 and the gates near ORB-SLAM2's.
+TEST(PoseOptimizer, GatesStayNominalForOnePixelNoise) {
+  std::mt19937_64 rng(23);
+  const Scenario s = MakeScenario(300, 0.0, true, rng);
+  const PoseOptimizerResult r = OptimizePose(kCamera, kBf, s.observations, s.truth);
+  EXPECT_GT(r.gate_scale, 0.85);
+  EXPECT_GT(r.num_inliers, 0.9 * 300);
+}
+
 TEST(PoseOptimizer, ValidateRejectsNonsense) {
   PoseOptimizerOptions options;
   options.num_rounds = 0;
@@ -279,6 +370,11 @@ TEST(PoseOptimizer, ValidateRejectsNonsense) {
   options.provisional_gate_factor = 0.0;
   EXPECT_THROW(options.Validate(), InputError);
   options.provisional_gate_factor = 1.5;
+  EXPECT_THROW(options.Validate(), InputError);
+  options = PoseOptimizerOptions();
+  options.min_gate_scale = 0.0;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.min_gate_scale = 1.01;
   EXPECT_THROW(options.Validate(), InputError);
   EXPECT_NO_THROW(PoseOptimizerOptions().Validate());
 }

@@ -18,6 +18,11 @@ class StagedLosses {
         stereo_(new ceres::HuberLoss(std::sqrt(chi2_stereo)), ceres::TAKE_OWNERSHIP) {}
   // The loss of an observation (shared by all blocks; the problem must not own it).
   ceres::LossFunction* For(bool stereo) { return stereo ? &stereo_ : &mono_; }
+  // From now on the Huber widths are sqrt of these gates.
+  void Rescale(double chi2_mono, double chi2_stereo) {
+    mono_.Reset(new ceres::HuberLoss(std::sqrt(chi2_mono)), ceres::TAKE_OWNERSHIP);
+    stereo_.Reset(new ceres::HuberLoss(std::sqrt(chi2_stereo)), ceres::TAKE_OWNERSHIP);
+  }
   // From now on every block using these losses is plain L2.
   void SwitchToL2() {
     mono_.Reset(nullptr, ceres::TAKE_OWNERSHIP);

@@ -72,22 +72,33 @@ class TrackerTest : public ::testing::Test {
   testing::FeatureWorld world_;
 };
 
+// Tracking alone (no mapper): landmarks keep the depth error they were created with, so the
+// worst error grows along the path. Measured worst translation: 20.3 mm with the defaults, 16.2 mm
+// with ORB-SLAM2's fixed gates — the gates that follow the keypoints' 0.5-px noise also drop
+// landmarks whose unrefined depth puts them a pixel off (with the mapper, local BA refines them;
+// the benchmark's ATE falls, docs/results.md session 27).
 TEST_F(TrackerTest, TracksSmoothPathAccurately) {
-  Map map;
-  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
-  double max_t = 0.0, max_r = 0.0;
-  int keyframes = 0;
-  for (int k = 0; k < 90; ++k) {
-    const TrackingResult r = Feed(tracker, k, k);
-    ASSERT_TRUE(r.pose_valid) << "frame " << k << " state " << ToString(r.state);
-    keyframes += r.new_keyframe != kNoKeyframe ? 1 : 0;
-    max_t = std::max(max_t, TranslationError(r.cam_from_world, testing::TruthInFirstCamera(k)));
-    max_r = std::max(max_r, RotationErrorDeg(r.cam_from_world, testing::TruthInFirstCamera(k)));
+  TrackerOptions fixed_gates;
+  fixed_gates.pose.min_gate_scale = 1.0;
+  for (const auto& [options, max_translation_m] :
+       {std::make_pair(TrackerOptions(), 0.025), std::make_pair(fixed_gates, 0.02)}) {
+    Map map;
+    Tracker tracker(world_.sensor(), options, &map);
+    double max_t = 0.0, max_r = 0.0;
+    int keyframes = 0;
+    for (int k = 0; k < 90; ++k) {
+      const TrackingResult r = Feed(tracker, k, k);
+      ASSERT_TRUE(r.pose_valid) << "frame " << k << " state " << ToString(r.state);
+      keyframes += r.new_keyframe != kNoKeyframe ? 1 : 0;
+      max_t = std::max(max_t, TranslationError(r.cam_from_world, testing::TruthInFirstCamera(k)));
+      max_r = std::max(max_r, RotationErrorDeg(r.cam_from_world, testing::TruthInFirstCamera(k)));
+    }
+    EXPECT_LT(max_t, max_translation_m);
+    EXPECT_LT(max_r, 0.5);
+    EXPECT_GE(keyframes, 3);
+    EXPECT_EQ(map.Read([](const MapData& m) { return m.NumKeyframes(); }),
+              static_cast<size_t>(keyframes));
   }
-  EXPECT_LT(max_t, 0.02);
-  EXPECT_LT(max_r, 0.5);
-  EXPECT_GE(keyframes, 3);
-  EXPECT_EQ(map.Read([](const MapData& m) { return m.NumKeyframes(); }), static_cast<size_t>(keyframes));
 }
 
 TEST_F(TrackerTest, RelocalizesAfterLosingTrack) {
