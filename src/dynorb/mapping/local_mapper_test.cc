@@ -142,6 +142,10 @@ class MapperTest : public ::testing::Test {
 double RunPath(const FeatureWorld& world, bool with_mapper, Map* map, int* mapped) {
   TrackerOptions options;
   options.motion_prior_sigma_m = 0.0;
+  // ORB-SLAM2's fixed gates as well: in this world the gates that follow the keypoint noise
+  // (floor 0.3) leave the mapped run at 11.8 mm against 11.2 tracking only (fixed: 9.0 against
+  // 9.5; floor 0.5: 8.8 against 9.7), see docs/slam_core.md.
+  options.pose.min_gate_scale = 1.0;
   Tracker tracker(world.sensor(), options, map);
   LocalMapper mapper(world.sensor(), LocalMapperOptions(), map);
   double sum_sq = 0.0;

@@ -171,12 +171,13 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                        options.chi2_stereo * result.gate_scale);
       }
     }
+    result.nominal_inlier.resize(observations.size());
     for (size_t i = 0; i < observations.size(); ++i) {
       const PoseObservation& obs = observations[i];
-      double gate =
-          (obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono) * result.gate_scale;
+      double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
       if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
-      result.inlier[i] = chi2[i] <= gate;
+      result.nominal_inlier[i] = chi2[i] <= gate;
+      result.inlier[i] = chi2[i] <= gate * result.gate_scale;
     }
   }
   result.cam_from_world = FromPoseBlock(pose.data());

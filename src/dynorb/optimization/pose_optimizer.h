@@ -75,6 +75,9 @@ struct PoseOptimizerResult {
   std::vector<bool> inlier;  // One flag per observation.
   int num_inliers = 0;
   double gate_scale = 1.0;  // The gates' scale after the first round (see min_gate_scale).
+  // Per observation: inside the unscaled (1-px) gates at the final pose, as ORB-SLAM2 would count
+  // it. The tracker's keyframe rule counts these, so that tighter gates do not make keyframes.
+  std::vector<bool> nominal_inlier;
 };
 
 // The noise variance (in units of the observations' nominal sigma^2) estimated from chi^2 values

@@ -341,6 +341,12 @@ TEST(PoseOptimizer, GatesFollowTheMeasuredNoise) {
   EXPECT_GT(wrong_kept(with_fixed), 0.9 * num_wrong);
   EXPECT_LT(adaptive.gate_scale, 0.6);  // Measured 0.44: the wrong matches inflate the estimate.
   EXPECT_LT(wrong_kept(adaptive), 0.35 * num_wrong);
+  // What ORB-SLAM2's gates would count (the tracker's keyframe rule): the wrong matches are in.
+  int wrong_inside_fixed_gates = 0;
+  for (size_t i = 0; i < wrong.size(); ++i) {
+    wrong_inside_fixed_gates += wrong[i] && adaptive.nominal_inlier[i] ? 1 : 0;
+  }
+  EXPECT_GT(wrong_inside_fixed_gates, 0.9 * num_wrong);
   EXPECT_GT(adaptive.num_inliers, 0.7 * (300 - num_wrong));
   // The wrong matches turn the pose (a shift of every pixel is a turn); rejecting most of them
   // halves that.

@@ -19,6 +19,7 @@ struct Frame {
   std::vector<LandmarkId> landmarks;             // Per keypoint; kNoLandmark if unmatched.
   std::vector<Eigen::Vector3d> landmark_points;  // Per keypoint: world position when matched.
   std::vector<bool> outlier;                     // Per keypoint: rejected by pose optimisation.
+  std::vector<bool> outlier_at_fixed_gates;      // Per keypoint: outside the unscaled (1-px) gates.
   Rigid3d cam_from_world;
   KeyframeId reference_keyframe = kNoKeyframe;
 
@@ -32,11 +33,13 @@ struct Frame {
     landmarks.assign(n, kNoLandmark);
     landmark_points.assign(n, Eigen::Vector3d::Zero());
     outlier.assign(n, false);
+    outlier_at_fixed_gates.assign(n, false);
   }
   void SetMatch(int index, LandmarkId lm, const Eigen::Vector3d& point_in_world) {
     landmarks[index] = lm;
     landmark_points[index] = point_in_world;
     outlier[index] = false;
+    outlier_at_fixed_gates[index] = false;
   }
   int NumMatches() const {
     int n = 0;

@@ -97,7 +97,9 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     for (size_t i = 0; i < frame.landmarks.size(); ++i) {
       if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) result.inlier_keypoints.push_back(static_cast<int>(i));
     }
-    if (NeedNewKeyframe(frame, inliers, mapper_idle)) {
+    // The keyframe rule counts matches inside the unscaled gates (as ORB-SLAM2): the tighter gates
+    // of the pose solve would otherwise insert ~30 % more keyframes (docs/slam_core.md).
+    if (NeedNewKeyframe(frame, fixed_gate_inliers_, mapper_idle)) {
       result.new_keyframe = CreateKeyframe(&frame, false, &result.new_landmark_keypoints);
     }
     // Outliers do not carry over to the next frame's motion-model search.
@@ -178,6 +180,7 @@ void Tracker::RefreshLandmarkPoints(Frame* frame) const {
 }
 
 int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
+  fixed_gate_inliers_ = 0;
   std::vector<PoseObservation> observations;
   std::vector<int> index;
   for (size_t i = 0; i < frame->landmarks.size(); ++i) {
@@ -205,6 +208,11 @@ int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
       OptimizePose(sensor_.camera, sensor_.bf, observations, frame->cam_from_world, options_.pose,
                    centre_prior_ ? &*centre_prior_ : nullptr);
   frame->cam_from_world = r.cam_from_world;
+  for (size_t k = 0; k < index.size(); ++k) {
+    const bool inside = r.nominal_inlier.empty() ? r.inlier[k] : r.nominal_inlier[k];
+    frame->outlier_at_fixed_gates[index[k]] = !inside;
+    fixed_gate_inliers_ += inside ? 1 : 0;
+  }
   for (size_t k = 0; k < index.size(); ++k) {
     frame->outlier[index[k]] = !r.inlier[k];
     if (!r.inlier[k] && drop_outliers) {
@@ -285,7 +293,7 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle)
   const FrameFeatures& f = *frame.features;
   for (int i = 0; i < f.size(); ++i) {
     if (!f.IsClose(i, sensor_.th_depth_m)) continue;
-    if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) {
+    if (frame.landmarks[i] != kNoLandmark && !frame.outlier_at_fixed_gates[i]) {
       ++tracked_close;
     } else {
       ++untracked_close;

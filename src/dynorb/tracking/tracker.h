@@ -79,6 +79,7 @@ class Tracker {
   std::optional<CentrePrior> centre_prior_;
   // The last frame's pose relative to its reference keyframe, so that the prior follows the
   // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).
+  int fixed_gate_inliers_ = 0;  // Of the last pose solve, inside the unscaled gates.
   KeyframeId last_reference_keyframe_ = kNoKeyframe;
   Rigid3d last_from_reference_;
   Rigid3d LastFramePoseNow() const;
