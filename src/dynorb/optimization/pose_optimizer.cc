@@ -50,6 +50,11 @@ class CentrePriorCost final : public ceres::SizedCostFunction<3, kPoseBlockSize>
   CentrePrior prior_;
 };
 
+// ORB-SLAM2's 95 % chi^2 gate of an observation (2 or 3 dof).
+double NominalGate(const PoseObservation& obs, const PoseOptimizerOptions& options) {
+  return obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+}
+
 // The gates' scale from the observations inside the nominal gates after the first round
 // (PoseOptimizerOptions::min_gate_scale); 1 when too few.
 double MeasuredGateScale(const std::vector<PoseObservation>& observations,
@@ -57,10 +62,9 @@ double MeasuredGateScale(const std::vector<PoseObservation>& observations,
   std::vector<double> inside;
   std::vector<int> dof;
   for (size_t i = 0; i < observations.size(); ++i) {
-    const bool stereo = observations[i].keypoint.IsStereo();
-    if (chi2[i] > (stereo ? options.chi2_stereo : options.chi2_mono)) continue;
+    if (chi2[i] > NominalGate(observations[i], options)) continue;
     inside.push_back(chi2[i]);
-    dof.push_back(stereo ? 3 : 2);
+    dof.push_back(observations[i].keypoint.IsStereo() ? 3 : 2);
   }
   const std::optional<double> scale = EstimateNoiseScale(inside, dof);
   return scale ? std::clamp(*scale, options.min_gate_scale, 1.0) : 1.0;
@@ -174,7 +178,7 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
     result.nominal_inlier.resize(observations.size());
     for (size_t i = 0; i < observations.size(); ++i) {
       const PoseObservation& obs = observations[i];
-      double gate = obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
+      double gate = NominalGate(obs, options);
       if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
       result.nominal_inlier[i] = chi2[i] <= gate;
       result.inlier[i] = chi2[i] <= gate * result.gate_scale;

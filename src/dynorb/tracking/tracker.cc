@@ -97,9 +97,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     for (size_t i = 0; i < frame.landmarks.size(); ++i) {
       if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) result.inlier_keypoints.push_back(static_cast<int>(i));
     }
-    // The keyframe rule counts matches inside the unscaled gates (as ORB-SLAM2): the tighter gates
-    // of the pose solve would otherwise insert ~30 % more keyframes (docs/slam_core.md).
-    if (NeedNewKeyframe(frame, fixed_gate_inliers_, mapper_idle)) {
+    if (NeedNewKeyframe(frame, mapper_idle)) {
       result.new_keyframe = CreateKeyframe(&frame, false, &result.new_landmark_keypoints);
     }
     // Outliers do not carry over to the next frame's motion-model search.
@@ -180,7 +178,6 @@ void Tracker::RefreshLandmarkPoints(Frame* frame) const {
 }
 
 int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
-  fixed_gate_inliers_ = 0;
   std::vector<PoseObservation> observations;
   std::vector<int> index;
   for (size_t i = 0; i < frame->landmarks.size(); ++i) {
@@ -209,9 +206,8 @@ int Tracker::OptimizeAndCount(Frame* frame, bool drop_outliers) {
                    centre_prior_ ? &*centre_prior_ : nullptr);
   frame->cam_from_world = r.cam_from_world;
   for (size_t k = 0; k < index.size(); ++k) {
-    const bool inside = r.nominal_inlier.empty() ? r.inlier[k] : r.nominal_inlier[k];
-    frame->outlier_at_fixed_gates[index[k]] = !inside;
-    fixed_gate_inliers_ += inside ? 1 : 0;
+    frame->outlier_at_fixed_gates[index[k]] =
+        !(r.nominal_inlier.empty() ? r.inlier[k] : r.nominal_inlier[k]);
   }
   for (size_t k = 0; k < index.size(); ++k) {
     frame->outlier[index[k]] = !r.inlier[k];
@@ -278,7 +274,7 @@ bool Tracker::TrackLocalMap(Frame* frame, int* inliers) {
   return *inliers >= needed;
 }
 
-bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle) const {
+bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
   const auto [num_keyframes, reference_matches] = map_->Read([&](const MapData& map) {
     const int n = static_cast<int>(map.NumKeyframes());
     const int min_obs = n <= 2 ? 2 : 3;  // Weighted (ORB-SLAM2): a depth observation counts 2.
@@ -289,11 +285,15 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle)
   if (ever_relocalized_ && frame.id < last_relocalization_frame_ + max_frames && num_keyframes > max_frames) {
     return false;
   }
-  int tracked_close = 0, untracked_close = 0;
+  // Matches are counted inside the unscaled gates, as ORB-SLAM2 would: the pose solve's tighter
+  // gates would otherwise insert ~30 % more keyframes (docs/slam_core.md).
+  int inliers = 0, tracked_close = 0, untracked_close = 0;
   const FrameFeatures& f = *frame.features;
   for (int i = 0; i < f.size(); ++i) {
+    const bool tracked = frame.landmarks[i] != kNoLandmark && !frame.outlier_at_fixed_gates[i];
+    inliers += tracked ? 1 : 0;
     if (!f.IsClose(i, sensor_.th_depth_m)) continue;
-    if (frame.landmarks[i] != kNoLandmark && !frame.outlier_at_fixed_gates[i]) {
+    if (tracked) {
       ++tracked_close;
     } else {
       ++untracked_close;

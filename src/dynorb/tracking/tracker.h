@@ -56,7 +56,7 @@ class Tracker {
   bool Relocalize(Frame* frame);
   bool TrackLocalMap(Frame* frame, int* inliers);
   int OptimizeAndCount(Frame* frame, bool drop_outliers);
-  bool NeedNewKeyframe(const Frame& frame, int inliers, bool mapper_idle) const;
+  bool NeedNewKeyframe(const Frame& frame, bool mapper_idle) const;
   // Inserts the frame as a keyframe and creates landmarks from its depth: every keypoint with depth
   // (first keyframe) or the nearest ones until new_close_points beyond th_depth (ORB-SLAM2).
   // `created` (optional) receives the indices of the keypoints that became new landmarks.
@@ -79,7 +79,6 @@ class Tracker {
   std::optional<CentrePrior> centre_prior_;
   // The last frame's pose relative to its reference keyframe, so that the prior follows the
   // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).
-  int fixed_gate_inliers_ = 0;  // Of the last pose solve, inside the unscaled gates.
   KeyframeId last_reference_keyframe_ = kNoKeyframe;
   Rigid3d last_from_reference_;
   Rigid3d LastFramePoseNow() const;
