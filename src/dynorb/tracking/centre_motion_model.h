@@ -1,7 +1,10 @@
 // Smoothed constant-velocity model of the camera centre, the source of the tracker's motion prior
 // (tracking.motion_prior_sigma_m / motion_prior_velocity_gain; docs/slam_core.md).
 //
-// The velocity (world frame, m/s) is an exponential average of the tracked centres' motion. The
+// The velocity (world frame, m/s) is an exponential average of the tracked centres' motion,
+// started as a plain mean (the gain of the n-th update after a reset is max(gain, 1/n)), and the
+// prior is given only once kMinUpdates frame-to-frame motions have been averaged: one difference
+// of two noisy centres (say the relocalised pose and the next) is no velocity to pull toward. The
 // prediction for a frame dt after the last tracked one is that frame's centre + dt x velocity,
 // with standard deviation sigma; after dropped frames (an interval over 1.5 times the last one;
 // timestamp jitter stays below) sigma grows with the square of the ratio, since the acceleration
@@ -25,8 +28,11 @@ class CentreMotionModel {
 
   bool enabled() const { return sigma_m_ > 0.0; }
 
+  static constexpr int kMinUpdates = 3;
+
   // The prior for a frame dt seconds after the last tracked one, whose centre is `last_centre`;
-  // none while disabled, before two frames were tracked in a row, or for dt <= 0.
+  // none while disabled, before kMinUpdates updates since the start or the last Reset, or for
+  // dt <= 0.
   std::optional<CentrePrior> Predict(const Eigen::Vector3d& last_centre, double dt) const;
 
   // A frame tracked dt seconds (> 0) after the last one: their centres update the velocity.
@@ -39,6 +45,7 @@ class CentreMotionModel {
   double sigma_m_;
   double gain_;
   std::optional<Eigen::Vector3d> velocity_;
+  int updates_ = 0;          // Since the start or the last Reset.
   double interval_s_ = 0.0;  // Interval of the last update (0: none).
 };
 

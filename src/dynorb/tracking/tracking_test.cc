@@ -191,27 +191,42 @@ TEST_F(TrackerTest, MotionPriorWidensOverDroppedFrames) {
 }
 
 TEST(CentreMotionModel, PredictsAlongTheSmoothedVelocityAndWidensOverGaps) {
-  CentreMotionModel model(0.004, 0.5);
-  const Eigen::Vector3d c0(1.0, 2.0, 3.0), step(0.01, 0.0, -0.02);
+  CentreMotionModel model(0.004, 0.2);
+  const Eigen::Vector3d c0(1.0, 2.0, 3.0), step(0.01, 0.0, -0.02);  // 0.1 m/s x, -0.2 m/s z.
   EXPECT_FALSE(model.Predict(c0, 0.1).has_value());  // No velocity yet.
-  model.Update(c0 + step, c0, 0.1);                  // 0.1 m/s x, -0.2 m/s z.
-  std::optional<CentrePrior> prior = model.Predict(c0 + step, 0.1);
+  // One or two frame-to-frame motions are not a velocity yet (kMinUpdates = 3).
+  model.Update(c0 + step, c0, 0.1);
+  EXPECT_FALSE(model.Predict(c0 + step, 0.1).has_value());
+  model.Update(c0 + 2.0 * step, c0 + step, 0.1);
+  EXPECT_FALSE(model.Predict(c0 + 2.0 * step, 0.1).has_value());
+  // The third is 0.1 m/s faster in x: the first three are averaged evenly (gain 1/3, not 0.2).
+  const Eigen::Vector3d faster = step + Eigen::Vector3d(0.01, 0.0, 0.0);
+  model.Update(c0 + 3.0 * step + Eigen::Vector3d(0.01, 0.0, 0.0), c0 + 2.0 * step, 0.1);
+  std::optional<CentrePrior> prior = model.Predict(Eigen::Vector3d::Zero(), 1.5);
   ASSERT_TRUE(prior.has_value());
-  EXPECT_LT((prior->centre_in_world - (c0 + 2.0 * step)).norm(), 1e-12);
-  EXPECT_DOUBLE_EQ(prior->sigma_m, 0.004);
+  const Eigen::Vector3d mean3 = (2.0 * step + faster) / 3.0 / 0.1;
+  EXPECT_LT((prior->centre_in_world - 1.5 * mean3).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(model.Predict(c0, 0.1)->sigma_m, 0.004);
   EXPECT_DOUBLE_EQ(model.Predict(c0, 0.14)->sigma_m, 0.004);       // Jitter: not a gap.
   EXPECT_DOUBLE_EQ(model.Predict(c0, 0.3)->sigma_m, 0.004 * 9.0);  // Two dropped frames.
   EXPECT_FALSE(model.Predict(c0, 0.0).has_value());
-  // Gain 0.5: halfway to a new velocity.
-  model.Update(c0 + 2.0 * step + Eigen::Vector3d(0.01, 0.0, 0.0), c0 + step, 0.1);
-  EXPECT_LT((model.Predict(Eigen::Vector3d::Zero(), 1.5)->centre_in_world -
-             1.5 * Eigen::Vector3d(0.15, 0.0, -0.2))
-                .norm(),
-            1e-12);
+  // The fourth update weighs 1/4, the fifth and later the gain 0.2.
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  model.Update(zero, zero, 0.1);
+  const Eigen::Vector3d mean4 = 0.75 * mean3;
+  EXPECT_LT((model.Predict(zero, 1.0)->centre_in_world - mean4).norm(), 1e-12);
+  model.Update(zero, zero, 0.1);
+  EXPECT_LT((model.Predict(zero, 1.0)->centre_in_world - 0.8 * mean4).norm(), 1e-12);
+  // After a reset the warm-up starts again.
   model.Reset();
   EXPECT_FALSE(model.Predict(c0, 0.1).has_value());
+  model.Update(c0 + step, c0, 0.1);
+  model.Update(c0 + 2.0 * step, c0 + step, 0.1);
+  EXPECT_FALSE(model.Predict(c0, 0.1).has_value());
+  model.Update(c0 + 3.0 * step, c0 + 2.0 * step, 0.1);
+  EXPECT_LT((model.Predict(c0, 0.1)->centre_in_world - (c0 + step)).norm(), 1e-12);
   CentreMotionModel off(0.0, 0.5);
-  off.Update(c0 + step, c0, 0.1);
+  for (int i = 0; i < 4; ++i) off.Update(c0 + step, c0, 0.1);
   EXPECT_FALSE(off.enabled());
   EXPECT_FALSE(off.Predict(c0, 0.1).has_value());
 }
