@@ -118,6 +118,7 @@ SystemOptions MakeSystemOptions(const SystemConfig& config, const RunRequest& cl
   options.sensor.camera = config.camera.camera;
   options.sensor.bf = config.camera.bf;
   options.sensor.th_depth_m = config.camera.close_depth_threshold_m();
+  options.sensor.disparity_sigma_px = config.camera.disparity_sigma_px;
   options.orb.n_features = config.orb.n_features;
   options.orb.scale_factor = config.orb.scale_factor;
   options.orb.n_levels = config.orb.n_levels;

@@ -29,6 +29,10 @@ void CameraConfig::Validate() const {
   RequirePositive(bf, "Camera.bf");
   RequirePositive(th_depth, "ThDepth");
   RequirePositive(depth_map_factor, "DepthMapFactor");
+  if (!std::isfinite(disparity_sigma_px) || disparity_sigma_px < 0.0) {
+    throw InputError("DepthDisparitySigma must be >= 0 (0: ORB-SLAM2's u_r residual), got " +
+                     std::to_string(disparity_sigma_px));
+  }
 }
 
 void OrbConfig::Validate() const {
@@ -65,6 +69,9 @@ void BindSystemConfig(SystemConfig* config, ConfigSchema* schema) {
       .Add("Camera.RGB", &config->camera.rgb_order, "colour order: 1 = RGB, 0 = BGR")
       .Add("ThDepth", &config->camera.th_depth, "close/far threshold in baselines")
       .Add("DepthMapFactor", &config->camera.depth_map_factor, "raw depth units per metre")
+      .Add("DepthDisparitySigma", &config->camera.disparity_sigma_px,
+           "depth noise as a disparity standard deviation [px] in the RGB-D residual (0: "
+           "ORB-SLAM2's u_r)")
       .Add("ORBextractor.nFeatures", &config->orb.n_features, "ORB features per image")
       .Add("ORBextractor.scaleFactor", &config->orb.scale_factor, "pyramid scale factor")
       .Add("ORBextractor.nLevels", &config->orb.n_levels, "pyramid levels")

@@ -30,6 +30,9 @@ struct CameraConfig {
   double bf = 40.0;
   // Close/far depth threshold in multiples of the baseline (ThDepth).
   double th_depth = 40.0;
+  // Depth noise as a disparity standard deviation in px (DepthDisparitySigma; 0 = ORB-SLAM2's
+  // u_r residual with the keypoint's sigma). See RgbdSensor::disparity_sigma_px.
+  double disparity_sigma_px = 0.15;
   // Raw depth units per metre (DepthMapFactor); mirrors dataset.depth_factor.
   double depth_map_factor = 5000.0;
   // ORB-SLAM2's Camera.RGB flag (1 = treat images as RGB, 0 = BGR when converting to grey).

@@ -94,6 +94,7 @@ TEST_F(ConfigTest, ShippedTumConfigsLoadWithExactNumbers) {
     EXPECT_EQ(c.camera.bf, 40.0);
     EXPECT_EQ(c.camera.th_depth, 40.0);
     EXPECT_EQ(c.camera.depth_map_factor, 5000.0);
+    EXPECT_EQ(c.camera.disparity_sigma_px, 0.15);
     EXPECT_TRUE(c.camera.rgb_order);
     EXPECT_EQ(c.orb.n_features, 1000);
     EXPECT_EQ(c.orb.scale_factor, 1.2);
@@ -168,6 +169,15 @@ TEST_F(ConfigTest, InvalidInputs) {
   ExpectInputError(
       [&] { LoadSystemConfig(Write("i.yaml", base + "dataset:\n  max_difference_s: 0\n")); },
       "max_difference_s must be > 0");
+  ExpectInputError([&] { LoadSystemConfig(Write("j.yaml", base + "DepthDisparitySigma: -0.1\n")); },
+                   "j.yaml: DepthDisparitySigma must be >= 0");
+  // 0 is ORB-SLAM2's form; a value is read as given.
+  EXPECT_EQ(LoadSystemConfig(Write("k.yaml", base + "DepthDisparitySigma: 0\n"))
+                .camera.disparity_sigma_px,
+            0.0);
+  EXPECT_EQ(LoadSystemConfig(Write("l.yaml", base + "DepthDisparitySigma: 0.3\n"))
+                .camera.disparity_sigma_px,
+            0.3);
 }
 
 TEST_F(ConfigTest, DepthFactorKeysAreOneQuantity) {

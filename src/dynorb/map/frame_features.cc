@@ -67,6 +67,9 @@ FrameFeatures::FrameFeatures(const OrbFeatures& orb, const std::vector<float>& k
 void FrameFeatures::Finish(const RgbdSensor& sensor) {
   const int n = static_cast<int>(keypoints_.size());
   u_right_.assign(n, -1.0f);
+  disparity_information_ = sensor.disparity_sigma_px > 0.0
+                               ? 1.0 / (sensor.disparity_sigma_px * sensor.disparity_sigma_px)
+                               : 0.0;
   if (sensor.camera.HasDistortion() && n > 0) {
     std::vector<cv::Point2f> in(n), out;
     for (int i = 0; i < n; ++i) in[i] = keypoints_[i].pt;
@@ -88,6 +91,7 @@ KeypointObservation FrameFeatures::Observation(int i) const {
   obs.uv = Eigen::Vector2d(keypoints_[i].pt.x, keypoints_[i].pt.y);
   obs.u_right = u_right_[i];
   obs.information = levels_.inv_sigma2[keypoints_[i].octave];
+  obs.disparity_information = disparity_information_;
   return obs;
 }
 

@@ -24,6 +24,10 @@ struct RgbdSensor {
   PinholeCamera camera;     // Intrinsics of the RGB image (depth registered to it).
   double bf = 40.0;         // Virtual stereo baseline times fx (ORB-SLAM2 Camera.bf), px*m.
   double th_depth_m = 3.0;  // Close/far threshold in metres (ORB-SLAM2: ThDepth * bf / fx).
+  // Depth noise as a disparity standard deviation (px, in units of bf): the weight of the depth in
+  // the RGB-D residual (reprojection_cost.h). 0: ORB-SLAM2's u_r residual with the keypoint's
+  // sigma.
+  double disparity_sigma_px = 0.15;
 };
 
 class FrameFeatures {
@@ -58,7 +62,8 @@ class FrameFeatures {
   float far_depth() const { return far_depth_m_; }
   const ScaleLevels& levels() const { return levels_; }
 
-  // The observation of keypoint i for the reprojection cost (information = 1 / sigma^2 of its level).
+  // The observation of keypoint i for the reprojection cost (information = 1 / sigma^2 of its
+  // level, disparity information from the sensor's disparity_sigma_px).
   KeypointObservation Observation(int i) const;
   // Back-projection of keypoint i with its depth, in the camera frame (requires HasDepth(i)).
   Eigen::Vector3d PointInCam(int i, const PinholeCamera& camera) const;
@@ -77,6 +82,7 @@ class FrameFeatures {
   std::vector<float> nearby_min_depth_m_;
   float far_depth_m_ = 0.0f;
   std::vector<float> u_right_;
+  double disparity_information_ = 0.0;
   ScaleLevels levels_;
   std::optional<KeypointGrid> grid_;
 };

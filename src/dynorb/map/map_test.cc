@@ -43,11 +43,22 @@ TEST(FrameFeatures, DepthURightAndObservation) {
   EXPECT_NEAR(f->u_right(i), f->keypoint(i).pt.x - 40.0 / 2.0, 1e-4);
   const KeypointObservation obs = f->Observation(i);
   EXPECT_NEAR(obs.information, 1.0 / std::pow(1.2, 2 * (i % 4)), 1e-12);
+  // The depth's weight comes from the sensor (default 0.15 px of disparity), not from the level.
+  EXPECT_NEAR(obs.disparity_information, 1.0 / (0.15 * 0.15), 1e-9);
   EXPECT_TRUE(obs.IsStereo());
   EXPECT_FALSE(f->Observation(0).IsStereo());
   const Eigen::Vector3d p = f->PointInCam(i, Sensor().camera);
   EXPECT_NEAR(p.z(), 2.0, 1e-9);
   EXPECT_LT((Sensor().camera.Project(p) - obs.uv).norm(), 1e-4);
+  // disparity_sigma_px 0: ORB-SLAM2's u_r residual (no disparity information).
+  RgbdSensor orb_slam2 = Sensor();
+  orb_slam2.disparity_sigma_px = 0.0;
+  OrbFeatures one;
+  one.keypoints.push_back(f->keypoint(i));
+  one.descriptors = cv::Mat(1, 32, CV_8U, cv::Scalar(0));
+  const FrameFeatures plain(one, std::vector<float>{2.0f}, orb_slam2, ScaleLevels(8, 1.2));
+  EXPECT_EQ(plain.Observation(0).disparity_information, 0.0);
+  EXPECT_TRUE(plain.Observation(0).IsStereo());
 }
 
 TEST(FrameFeatures, NearbyMinDepthIsTheNearestMeasurementAroundTheKeypoint) {

@@ -365,6 +365,46 @@ TEST(PoseOptimizer, GatesStayNominalForOnePixelNoise) {
   EXPECT_GT(r.num_inliers, 0.9 * 300);
 }
 
+// RGB-D observations whose depth is far more precise than the keypoint (a Kinect at 1-5 m: about
+// 0.07 px of disparity against 0.5 px of keypoint noise, with the nominal 1-px level sigma): the
+// disparity form of the residual, weighted by the depth's own sigma, gives a better pose than
+// ORB-SLAM2's u_r form, which rates the depth like a pixel and also counts the keypoint's u noise
+// in it.
+TEST(PoseOptimizer, DisparityWeightingUsesThePreciseDepth) {
+  std::mt19937_64 rng(41);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  double sq_orb = 0.0, sq_disparity = 0.0, rot_orb = 0.0, rot_disparity = 0.0;
+  const int trials = 40;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Rigid3d truth = testing::Perturb(Rigid3d(), 0.2, 0.3, rng);
+    std::vector<PoseObservation> orb, disparity;
+    for (const Eigen::Vector3d& p_cam : testing::RandomPointsInWorld(120, rng)) {
+      PoseObservation obs;
+      obs.point_in_world = truth.Inverse() * p_cam;
+      const Eigen::Vector2d uv = kCamera.Project(p_cam);
+      obs.keypoint.uv = uv + 0.5 * Eigen::Vector2d(unit(rng), unit(rng));
+      obs.keypoint.u_right = obs.keypoint.uv.x() - (kBf / p_cam.z() + 0.07 * unit(rng));
+      obs.keypoint.information = 1.0;
+      orb.push_back(obs);
+      obs.keypoint.disparity_information = 1.0 / (0.15 * 0.15);
+      disparity.push_back(obs);
+    }
+    const Rigid3d initial = testing::Perturb(truth, 1.0 * M_PI / 180.0, 0.03, rng);
+    const Rigid3d e_orb = OptimizePose(kCamera, kBf, orb, initial).cam_from_world * truth.Inverse();
+    const Rigid3d e_disparity =
+        OptimizePose(kCamera, kBf, disparity, initial).cam_from_world * truth.Inverse();
+    sq_orb += (CentreOf(e_orb)).squaredNorm();
+    sq_disparity += (CentreOf(e_disparity)).squaredNorm();
+    rot_orb += std::pow(RotationAngleRad(e_orb.rotation), 2);
+    rot_disparity += std::pow(RotationAngleRad(e_disparity.rotation), 2);
+  }
+  const double rms_orb = std::sqrt(sq_orb / trials),
+               rms_disparity = std::sqrt(sq_disparity / trials);
+  // Measured: centre RMS 0.795 mm (u_r form) against 0.697 mm, rotation 0.0172 against 0.0156 deg.
+  EXPECT_LT(rms_disparity, 0.92 * rms_orb);
+  EXPECT_LT(rot_disparity, rot_orb);
+}
+
 TEST(PoseOptimizer, ValidateRejectsNonsense) {
   PoseOptimizerOptions options;
   options.num_rounds = 0;

@@ -16,7 +16,8 @@ namespace {
 constexpr double kMinDepth = 1e-6;
 
 // Jacobians (d predicted / d point_in_cam), rows u, v, u_r:
-//   [fx/z, 0, -fx x/z^2], [0, fy/z, -fy y/z^2], [fx/z, 0, -fx x/z^2 + bf/z^2].
+//   [fx/z, 0, -fx x/z^2], [0, fy/z, -fy y/z^2], [fx/z, 0, -fx x/z^2 + bf/z^2];
+// with a disparity information the third row is the disparity d = bf / z: [0, 0, -bf/z^2].
 // d point_in_cam / d dt = I,  d point_in_cam / d dtheta = -R [point_in_world]_x  (R <- R
 // Exp(dtheta)), d point_in_cam / d point_in_world = R. The residual is observed - predicted, hence
 // the minus.
@@ -25,9 +26,9 @@ constexpr double kMinDepth = 1e-6;
 // the pose Jacobian (kPoseBlockSize columns) and of the point Jacobian (3 columns).
 // Fixed-size throughout: this runs for every residual at every iteration (no heap use).
 void EvaluateObservation(const PinholeCamera& camera, double bf, const KeypointObservation& obs,
-                         double sqrt_info, const Eigen::Matrix3d& r, const Eigen::Vector3d& t,
-                         const Eigen::Vector3d& point_in_world, double* residuals,
-                         double* jacobian_pose, double* jacobian_point) {
+                         double sqrt_info, double sqrt_disparity_info, const Eigen::Matrix3d& r,
+                         const Eigen::Vector3d& t, const Eigen::Vector3d& point_in_world,
+                         double* residuals, double* jacobian_pose, double* jacobian_point) {
   const Eigen::Vector3d p = r * point_in_world + t;
   const double z = std::abs(p.z()) < kMinDepth ? (p.z() < 0 ? -kMinDepth : kMinDepth) : p.z();
   const double inv_z = 1.0 / z;
@@ -36,7 +37,11 @@ void EvaluateObservation(const PinholeCamera& camera, double bf, const KeypointO
   const int n = obs.IsStereo() ? 3 : 2;
   residuals[0] = sqrt_info * (obs.uv.x() - u);
   residuals[1] = sqrt_info * (obs.uv.y() - v);
-  if (n == 3) residuals[2] = sqrt_info * (obs.u_right - (u - bf * inv_z));
+  const bool disparity = sqrt_disparity_info > 0.0;
+  if (n == 3) {
+    residuals[2] = disparity ? sqrt_disparity_info * ((obs.uv.x() - obs.u_right) - bf * inv_z)
+                             : sqrt_info * (obs.u_right - (u - bf * inv_z));
+  }
   if (jacobian_pose == nullptr && jacobian_point == nullptr) return;
 
   Eigen::Matrix3d d_res;  // d residual / d point_in_cam; row 2 only used for RGB-D.
@@ -45,6 +50,7 @@ void EvaluateObservation(const PinholeCamera& camera, double bf, const KeypointO
       0.0, camera.fy * inv_z, -camera.fy * p.y() * inv_z2,       //
       camera.fx * inv_z, 0.0, -camera.fx * p.x() * inv_z2 + bf * inv_z2;
   d_res *= -sqrt_info;
+  if (disparity) d_res.row(2) = Eigen::RowVector3d(0.0, 0.0, sqrt_disparity_info * bf * inv_z2);
 
   if (jacobian_pose != nullptr) {
     Eigen::Matrix3d skew;
@@ -76,7 +82,11 @@ class ReprojectionCost : public ceres::CostFunction {
  public:
   ReprojectionCost(const PinholeCamera& camera, double bf, const KeypointObservation& obs,
                    const Eigen::Vector3d* fixed_point)
-      : camera_(camera), bf_(bf), obs_(obs), sqrt_info_(std::sqrt(obs.information)),
+      : camera_(camera),
+        bf_(bf),
+        obs_(obs),
+        sqrt_info_(std::sqrt(obs.information)),
+        sqrt_disparity_info_(std::sqrt(obs.disparity_information)),
         has_fixed_point_(fixed_point != nullptr) {
     if (has_fixed_point_) fixed_point_ = *fixed_point;
     set_num_residuals(obs.IsStereo() ? 3 : 2);
@@ -90,7 +100,7 @@ class ReprojectionCost : public ceres::CostFunction {
         has_fixed_point_ ? fixed_point_ : Eigen::Vector3d(parameters[1][0], parameters[1][1], parameters[1][2]);
     double* jacobian_pose = jacobians != nullptr ? jacobians[0] : nullptr;
     double* jacobian_point = jacobians != nullptr && !has_fixed_point_ ? jacobians[1] : nullptr;
-    EvaluateObservation(camera_, bf_, obs_, sqrt_info_, RotationOfBlock(pose),
+    EvaluateObservation(camera_, bf_, obs_, sqrt_info_, sqrt_disparity_info_, RotationOfBlock(pose),
                         Eigen::Vector3d(pose[0], pose[1], pose[2]), point_in_world, residuals,
                         jacobian_pose, jacobian_point);
     return true;
@@ -101,6 +111,7 @@ class ReprojectionCost : public ceres::CostFunction {
   double bf_;
   KeypointObservation obs_;
   double sqrt_info_;
+  double sqrt_disparity_info_;
   bool has_fixed_point_;
   Eigen::Vector3d fixed_point_ = Eigen::Vector3d::Zero();
 };
@@ -119,6 +130,7 @@ class PoseOnlyBatchCost : public ceres::CostFunction {
     int n = 0;
     for (const KeypointObservation& obs : observations_) {
       sqrt_info_.push_back(std::sqrt(obs.information));
+      sqrt_disparity_info_.push_back(std::sqrt(obs.disparity_information));
       n += obs.IsStereo() ? 3 : 2;
     }
     set_num_residuals(n);
@@ -133,8 +145,8 @@ class PoseOnlyBatchCost : public ceres::CostFunction {
     double* jacobian = jacobians != nullptr ? jacobians[0] : nullptr;
     int row = 0;
     for (size_t i = 0; i < observations_.size(); ++i) {
-      EvaluateObservation(camera_, bf_, observations_[i], sqrt_info_[i], r, t, points_[i],
-                          residuals + row,
+      EvaluateObservation(camera_, bf_, observations_[i], sqrt_info_[i], sqrt_disparity_info_[i], r,
+                          t, points_[i], residuals + row,
                           jacobian != nullptr ? jacobian + row * kPoseBlockSize : nullptr, nullptr);
       row += observations_[i].IsStereo() ? 3 : 2;
     }
@@ -147,6 +159,7 @@ class PoseOnlyBatchCost : public ceres::CostFunction {
   std::vector<KeypointObservation> observations_;
   std::vector<Eigen::Vector3d> points_;
   std::vector<double> sqrt_info_;
+  std::vector<double> sqrt_disparity_info_;
 };
 
 }  // namespace
@@ -175,6 +188,10 @@ double ReprojectionChi2(const PinholeCamera& camera, double bf, const KeypointOb
   const double u = camera.fx * point_in_cam.x() * inv_z + camera.cx;
   const double v = camera.fy * point_in_cam.y() * inv_z + camera.cy;
   double e2 = (obs.uv.x() - u) * (obs.uv.x() - u) + (obs.uv.y() - v) * (obs.uv.y() - v);
+  if (obs.IsStereo() && obs.disparity_information > 0.0) {
+    const double dd = (obs.uv.x() - obs.u_right) - bf * inv_z;
+    return obs.information * e2 + obs.disparity_information * dd * dd;
+  }
   if (obs.IsStereo()) {
     const double ur = u - bf * inv_z;
     e2 += (obs.u_right - ur) * (obs.u_right - ur);

@@ -5,7 +5,11 @@
 // the residual is  r = sqrt(information) * (observed - predicted)  with 2 components (u, v) for a
 // monocular observation or 3 (u, v, u_r) for an RGB-D observation with a virtual right
 // coordinate u_r = u - bf / depth (ORB-SLAM2's stereo formulation of RGB-D). `information` is the
-// inverse variance 1 / sigma^2 of the keypoint's pyramid level. Jacobians are analytic (see .cc).
+// inverse variance 1 / sigma^2 of the keypoint's pyramid level. When the observation carries a
+// disparity information (KeypointObservation::disparity_information > 0), the third component is
+// instead sqrt(disparity_information) * (d - bf / p.z) with the measured disparity d = u - u_r:
+// the depth weighted by the depth sensor's own noise, independent of the keypoint's pixel noise.
+// Jacobians are analytic (see .cc).
 #pragma once
 
 #include <vector>
@@ -35,7 +39,7 @@ ceres::CostFunction* NewPoseOnlyBatchCost(const PinholeCamera& camera, double bf
                                           std::vector<KeypointObservation> observations,
                                           std::vector<Eigen::Vector3d> points_in_world);
 
-// Unweighted chi^2 helper for outlier gating: information * |observed - predicted|^2.
+// chi^2 of the whitened residual above (the squared norm of r), for outlier gating.
 // Returns +inf when the point is not in front of the camera.
 double ReprojectionChi2(const PinholeCamera& camera, double bf, const KeypointObservation& obs,
                         const Eigen::Vector3d& point_in_cam);

@@ -42,12 +42,14 @@ TEST(PoseManifold, PlusMinusRoundTrip) {
 // compared with the analytic Jacobian restricted to the tangent (the first 6 pose columns).
 // (ceres::GradientChecker differentiates in the ambient quaternion space, which does not apply to
 // the tangent-column convention documented in pose_block.h.)
-void CheckJacobians(bool stereo, bool pose_only) {
+void CheckJacobians(bool stereo, bool pose_only, double disparity_sigma_px = 0.0) {
   std::mt19937_64 rng(stereo ? 11 : 12);
   const Rigid3d cam_from_world = testing::Perturb(Rigid3d(), 0.3, 0.5, rng);
   const Eigen::Vector3d point_in_world = cam_from_world.Inverse() * Eigen::Vector3d(0.4, -0.3, 2.5);
   KeypointObservation obs = testing::Observe(kCamera, kBf, cam_from_world, point_in_world, stereo, 2.0, rng);
   obs.information = 1.0 / 1.44;
+  if (disparity_sigma_px > 0.0)
+    obs.disparity_information = 1.0 / (disparity_sigma_px * disparity_sigma_px);
   std::unique_ptr<ceres::CostFunction> cost(
       pose_only ? NewPoseOnlyReprojectionCost(kCamera, kBf, obs, point_in_world)
                 : NewReprojectionCost(kCamera, kBf, obs));
@@ -100,6 +102,8 @@ TEST(ReprojectionCost, MonoJacobians) { CheckJacobians(false, false); }
 TEST(ReprojectionCost, StereoJacobians) { CheckJacobians(true, false); }
 TEST(ReprojectionCost, PoseOnlyMonoJacobians) { CheckJacobians(false, true); }
 TEST(ReprojectionCost, PoseOnlyStereoJacobians) { CheckJacobians(true, true); }
+TEST(ReprojectionCost, DisparityJacobians) { CheckJacobians(true, false, 0.15); }
+TEST(ReprojectionCost, PoseOnlyDisparityJacobians) { CheckJacobians(true, true, 0.15); }
 
 // The batch cost is the per-observation pose-only costs stacked: same residuals and Jacobian rows
 // for a mix of monocular and RGB-D observations with different weights.
@@ -112,6 +116,7 @@ TEST(ReprojectionCost, PoseOnlyBatchStacksThePerObservationCosts) {
     observations.push_back(
         testing::Observe(kCamera, kBf, cam_from_world, points[i], i % 3 == 0, 1.5, rng));
     observations.back().information = 1.0 / (1.0 + 0.2 * i);
+    if (i % 2 == 0) observations.back().disparity_information = 1.0 / (0.1 + 0.05 * i);
   }
   std::unique_ptr<ceres::CostFunction> batch(
       NewPoseOnlyBatchCost(kCamera, kBf, observations, points));
@@ -165,6 +170,49 @@ TEST(ReprojectionCost, ZeroResidualAtTruthAndChi2) {
   obs.information = 0.25;
   EXPECT_NEAR(ReprojectionChi2(kCamera, kBf, obs, cam_from_world * point_in_world), 1.0, 1e-9);
   EXPECT_TRUE(std::isinf(ReprojectionChi2(kCamera, kBf, obs, Eigen::Vector3d(0, 0, -1))));
+}
+
+// With a disparity information the third residual is the disparity d = u - u_r against bf / z,
+// weighted by the depth's own sigma: a pixel error in u alone leaves it at zero (ORB-SLAM2's u_r
+// residual would count it twice), a depth error shows in it alone, and ReprojectionChi2 is the
+// squared norm of the residuals.
+TEST(ReprojectionCost, DisparityResidualWeighsTheDepthByItsOwnSigma) {
+  std::mt19937_64 rng(6);
+  const Rigid3d cam_from_world = testing::Perturb(Rigid3d(), 0.2, 0.3, rng);
+  const Eigen::Vector3d p_cam(-0.5, 0.2, 2.0);
+  const Eigen::Vector3d point_in_world = cam_from_world.Inverse() * p_cam;
+  KeypointObservation obs =
+      testing::Observe(kCamera, kBf, cam_from_world, point_in_world, true, 0.0, rng);
+  obs.information = 0.25;                  // 2-px keypoint sigma.
+  obs.disparity_information = 1.0 / 0.01;  // 0.1-px disparity sigma.
+  std::unique_ptr<ceres::CostFunction> cost(NewReprojectionCost(kCamera, kBf, obs));
+  const PoseBlock pose = ToPoseBlock(cam_from_world);
+  const double* params[2] = {pose.data(), point_in_world.data()};
+  auto residuals_of = [&](const KeypointObservation& o) {
+    std::unique_ptr<ceres::CostFunction> c(NewReprojectionCost(kCamera, kBf, o));
+    Eigen::Vector3d r;
+    EXPECT_TRUE(c->Evaluate(params, r.data(), nullptr));
+    return r;
+  };
+  EXPECT_LT(residuals_of(obs).norm(), 1e-9);
+  // The keypoint 1 px right, same depth: u and u_r move together, the disparity does not.
+  KeypointObservation shifted = obs;
+  shifted.uv.x() += 1.0;
+  shifted.u_right += 1.0;
+  Eigen::Vector3d r = residuals_of(shifted);
+  EXPECT_NEAR(r[0], 0.5, 1e-9);
+  EXPECT_NEAR(r[2], 0.0, 1e-9);
+  EXPECT_NEAR(ReprojectionChi2(kCamera, kBf, shifted, p_cam), r.squaredNorm(), 1e-9);
+  shifted.disparity_information = 0.0;  // ORB-SLAM2's form: the u_r residual sees the same pixel.
+  EXPECT_NEAR(residuals_of(shifted)[2], 0.5, 1e-9);
+  // The depth 1 % farther: the disparity bf / z = 20 px drops by 0.198 px, ~2 sigma of 0.1 px.
+  KeypointObservation farther = obs;
+  farther.u_right = obs.uv.x() - kBf / (1.01 * p_cam.z());
+  r = residuals_of(farther);
+  EXPECT_NEAR(r[0], 0.0, 1e-9);
+  EXPECT_NEAR(r[2], (kBf / (1.01 * p_cam.z()) - kBf / p_cam.z()) / 0.1, 1e-9);
+  EXPECT_NEAR(r[2], -1.98, 0.01);
+  EXPECT_NEAR(ReprojectionChi2(kCamera, kBf, farther, p_cam), r.squaredNorm(), 1e-9);
 }
 
 }  // namespace
