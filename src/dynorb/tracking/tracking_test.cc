@@ -73,15 +73,16 @@ class TrackerTest : public ::testing::Test {
 };
 
 // Tracking alone (no mapper): landmarks keep the depth error they were created with, so the
-// worst error grows along the path. Measured worst translation: 20.3 mm with the defaults, 16.2 mm
-// with ORB-SLAM2's fixed gates — the gates that follow the keypoints' 0.5-px noise also drop
-// landmarks whose unrefined depth puts them a pixel off (with the mapper, local BA refines them;
-// the benchmark's ATE falls, docs/results.md session 27).
+// worst error grows along the path. Measured worst translation: 19.2 mm with the defaults, 12.0 mm
+// with ORB-SLAM2's fixed gates (with ORB-SLAM2's u_r residual instead of the disparity one: 20.3
+// and 16.2 mm) — the gates that follow the keypoints' 0.5-px noise also drop landmarks whose
+// unrefined depth puts them a pixel off (with the mapper, local BA refines them; the benchmark's
+// ATE falls, docs/results.md session 27).
 TEST_F(TrackerTest, TracksSmoothPathAccurately) {
   TrackerOptions fixed_gates;
   fixed_gates.pose.min_gate_scale = 1.0;
   for (const auto& [options, max_translation_m] :
-       {std::make_pair(TrackerOptions(), 0.025), std::make_pair(fixed_gates, 0.02)}) {
+       {std::make_pair(TrackerOptions(), 0.024), std::make_pair(fixed_gates, 0.015)}) {
     Map map;
     Tracker tracker(world_.sensor(), options, &map);
     double max_t = 0.0, max_r = 0.0;
