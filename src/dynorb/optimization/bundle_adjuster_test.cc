@@ -13,6 +13,19 @@ namespace {
 const PinholeCamera kCamera = TumFreiburg3Camera();
 constexpr double kBf = 40.0;
 
+// Calls f(k, i, point_in_cam) for every point i at least 0.5 m in front of keyframe k and inside
+// its image, keyframe-major.
+template <typename F>
+void ForEachVisible(const std::vector<Rigid3d>& cam_from_world,
+                    const std::vector<Eigen::Vector3d>& points, F f) {
+  for (size_t k = 0; k < cam_from_world.size(); ++k) {
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d p = cam_from_world[k] * points[i];
+      if (p.z() >= 0.5 && kCamera.InImage(kCamera.Project(p))) f(k, i, p);
+    }
+  }
+}
+
 TEST(BundleAdjuster, ReducesPerturbationOfPosesAndPoints) {
   std::mt19937_64 rng(31);
   // Five keyframes along a short arc, all looking at a cloud of points.
@@ -26,21 +39,17 @@ TEST(BundleAdjuster, ReducesPerturbationOfPosesAndPoints) {
   std::vector<BaObservation> observations;
   int outliers = 0;
   std::uniform_real_distribution<double> u01(0.0, 1.0);
-  for (size_t k = 0; k < truth.size(); ++k) {
-    for (size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d p = truth[k] * points[i];
-      if (p.z() < 0.5 || !kCamera.InImage(kCamera.Project(p))) continue;
-      BaObservation obs;
-      obs.keyframe_index = k;
-      obs.landmark_index = i;
-      obs.keypoint = testing::Observe(kCamera, kBf, truth[k], points[i], i % 2 == 0, 0.5, rng);
-      if (u01(rng) < 0.05) {
-        obs.keypoint.uv += Eigen::Vector2d(25.0, -30.0);
-        ++outliers;
-      }
-      observations.push_back(obs);
+  ForEachVisible(truth, points, [&](size_t k, size_t i, const Eigen::Vector3d&) {
+    BaObservation obs;
+    obs.keyframe_index = k;
+    obs.landmark_index = i;
+    obs.keypoint = testing::Observe(kCamera, kBf, truth[k], points[i], i % 2 == 0, 0.5, rng);
+    if (u01(rng) < 0.05) {
+      obs.keypoint.uv += Eigen::Vector2d(25.0, -30.0);
+      ++outliers;
     }
-  }
+    observations.push_back(obs);
+  });
   std::vector<BaKeyframe> keyframes;
   for (size_t k = 0; k < truth.size(); ++k) {
     BaKeyframe kf;
@@ -104,21 +113,17 @@ TEST(BundleAdjuster, DisparityWeightingPlacesLandmarksBetterForAStillCamera) {
   }
   const std::vector<Eigen::Vector3d> points = testing::RandomPointsInWorld(300, rng);
   std::vector<BaObservation> orb, disparity;
-  for (size_t k = 0; k < truth.size(); ++k) {
-    for (size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d p = truth[k] * points[i];
-      if (p.z() < 0.5 || !kCamera.InImage(kCamera.Project(p))) continue;
-      BaObservation obs;
-      obs.keyframe_index = k;
-      obs.landmark_index = i;
-      obs.keypoint.uv = kCamera.Project(p) + 0.5 * Eigen::Vector2d(unit(rng), unit(rng));
-      obs.keypoint.u_right = obs.keypoint.uv.x() - (kBf / p.z() + 0.07 * unit(rng));
-      obs.keypoint.information = 1.0;
-      orb.push_back(obs);
-      obs.keypoint.disparity_information = 1.0 / (0.15 * 0.15);
-      disparity.push_back(obs);
-    }
-  }
+  ForEachVisible(truth, points, [&](size_t k, size_t i, const Eigen::Vector3d& p) {
+    BaObservation obs;
+    obs.keyframe_index = k;
+    obs.landmark_index = i;
+    obs.keypoint.uv = kCamera.Project(p) + 0.5 * Eigen::Vector2d(unit(rng), unit(rng));
+    obs.keypoint.u_right = obs.keypoint.uv.x() - (kBf / p.z() + 0.07 * unit(rng));
+    obs.keypoint.information = 1.0;
+    orb.push_back(obs);
+    obs.keypoint.disparity_information = 1.0 / (0.15 * 0.15);
+    disparity.push_back(obs);
+  });
   std::vector<BaKeyframe> keyframes;
   for (size_t k = 0; k < truth.size(); ++k) {
     BaKeyframe kf;
