@@ -87,6 +87,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "chi2 gate factor (0..1] for provisional landmarks joining the established pose")
       .Add("pose_min_gate_scale", &t->pose.min_gate_scale,
            "the pose solve's chi2 gates follow the measured keypoint noise down to this scale (0..1]; 1: fixed 1-px gates")
+      .Add("pose_depth_fallback", &t->pose.depth_fallback,
+           "an RGB-D match whose depth fails the pose solve's gate but whose pixel fits joins without its depth (false: dropped, as ORB-SLAM2)")
       .Add("motion_prior_sigma_m", &t->motion_prior_sigma_m,
            "prior on the camera centre from a smoothed constant-velocity model, standard deviation (m; 0: off)")
       .Add("motion_prior_velocity_gain", &t->motion_prior_velocity_gain,

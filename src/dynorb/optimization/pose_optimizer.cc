@@ -51,6 +51,12 @@ class CentrePriorCost final : public ceres::SizedCostFunction<3, kPoseBlockSize>
 };
 
 // ORB-SLAM2's 95 % chi^2 gate of an observation (2 or 3 dof).
+// The observation's pixel only (u_r < 0: monocular).
+KeypointObservation WithoutDepth(KeypointObservation keypoint) {
+  keypoint.u_right = -1.0;
+  return keypoint;
+}
+
 double NominalGate(const PoseObservation& obs, const PoseOptimizerOptions& options) {
   return obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
 }
@@ -141,6 +147,9 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
                                      options.robust_rounds < options.num_rounds;
 
   std::vector<double> chi2(observations.size());
+  // Per observation: whether it takes part without its depth, and how its current block was built.
+  result.depth_dropped.assign(observations.size(), false);
+  std::vector<bool> block_without_depth(observations.size(), false);
   for (int round = 0; round < options.num_rounds; ++round) {
     if (round == options.robust_rounds) {
       losses.SwitchToL2();
@@ -148,15 +157,20 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
     for (size_t i = 0; i < observations.size(); ++i) {
       const bool wanted = result.inlier[i] && !(hold_back_provisional && round < options.robust_rounds &&
                                                 observations[i].provisional);
-      if (wanted == (blocks[i] != nullptr)) continue;
+      const bool same_kind = block_without_depth[i] == result.depth_dropped[i];
+      if (wanted == (blocks[i] != nullptr) && (!wanted || same_kind)) continue;
       if (blocks[i] != nullptr) {
         problem.RemoveResidualBlock(blocks[i]);
         blocks[i] = nullptr;
-        continue;
+        if (!wanted) continue;
       }
-      const PoseObservation& obs = observations[i];
-      blocks[i] = problem.AddResidualBlock(NewPoseOnlyReprojectionCost(camera, bf, obs.keypoint, obs.point_in_world),
-                                           losses.For(obs.keypoint.IsStereo()), pose.data());
+      const KeypointObservation keypoint = result.depth_dropped[i]
+                                               ? WithoutDepth(observations[i].keypoint)
+                                               : observations[i].keypoint;
+      blocks[i] = problem.AddResidualBlock(
+          NewPoseOnlyReprojectionCost(camera, bf, keypoint, observations[i].point_in_world),
+          losses.For(keypoint.IsStereo()), pose.data());
+      block_without_depth[i] = result.depth_dropped[i];
     }
     if (problem.NumResidualBlocks() - prior_blocks < 3) break;
     ceres::Solver::Summary summary;
@@ -182,6 +196,21 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
       if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
       result.nominal_inlier[i] = chi2[i] <= gate;
       result.inlier[i] = chi2[i] <= gate * result.gate_scale;
+      result.depth_dropped[i] = false;
+      // Only where the third residual is the depth's own (disparity form): ORB-SLAM2's u_r
+      // residual also carries the pixel's error.
+      if (options.depth_fallback && !result.inlier[i] && obs.keypoint.IsStereo() &&
+          obs.keypoint.disparity_information > 0.0) {
+        // The pixel alone, against the 2-dof gate (scaled and, if provisional, narrowed alike).
+        const double pixel_chi2 = ReprojectionChi2(camera, bf, WithoutDepth(obs.keypoint),
+                                                   cam_from_world * obs.point_in_world);
+        const double pixel_gate = options.chi2_mono * gate / NominalGate(obs, options);
+        if (pixel_chi2 <= pixel_gate * result.gate_scale) {
+          result.inlier[i] = true;
+          result.nominal_inlier[i] = pixel_chi2 <= pixel_gate;
+          result.depth_dropped[i] = true;
+        }
+      }
     }
   }
   result.cam_from_world = FromPoseBlock(pose.data());

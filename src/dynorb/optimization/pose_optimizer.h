@@ -45,6 +45,13 @@ struct PoseOptimizerOptions {
   // and Huber widths of the later rounds are scaled by it, clamped to [min_gate_scale, 1].
   // 1 = fixed gates (ORB-SLAM2). Measured on 12 dynamic sequences (docs/results.md, session 27).
   double min_gate_scale = 0.3;
+  // An RGB-D observation in the disparity form (KeypointObservation::disparity_information > 0)
+  // outside its 3-dof gate whose pixel alone is inside the 2-dof gate joins as a monocular one:
+  // its depth sample is off (a depth edge: the keypoint on the background, the depth from the
+  // person in front), its pixel is still good. false = ORB-SLAM2 (dropped whole), the default:
+  // measured mixed (docs/results.md, session 28: 300-frame cuts semantic -7.2 %, full length +4.5
+  // %).
+  bool depth_fallback = false;
   void Validate() const;            // Throws InputError on nonsense values.
 };
 
@@ -78,6 +85,8 @@ struct PoseOptimizerResult {
   // Per observation: inside the unscaled (1-px) gates at the final pose, as ORB-SLAM2 would count
   // it. The tracker's keyframe rule counts these, so that tighter gates do not make keyframes.
   std::vector<bool> nominal_inlier;
+  // Per observation: an inlier through its pixel only (depth_fallback), its depth left out.
+  std::vector<bool> depth_dropped;
 };
 
 // The noise variance (in units of the observations' nominal sigma^2) estimated from chi^2 values
