@@ -50,13 +50,13 @@ class CentrePriorCost final : public ceres::SizedCostFunction<3, kPoseBlockSize>
   CentrePrior prior_;
 };
 
-// ORB-SLAM2's 95 % chi^2 gate of an observation (2 or 3 dof).
 // The observation's pixel only (u_r < 0: monocular).
 KeypointObservation WithoutDepth(KeypointObservation keypoint) {
   keypoint.u_right = -1.0;
   return keypoint;
 }
 
+// ORB-SLAM2's 95 % chi^2 gate of an observation (2 or 3 dof).
 double NominalGate(const PoseObservation& obs, const PoseOptimizerOptions& options) {
   return obs.keypoint.IsStereo() ? options.chi2_stereo : options.chi2_mono;
 }
