@@ -8,6 +8,11 @@
 
 namespace dynorb {
 
+// The default depth noise as a disparity standard deviation (px, units of bf): twice a Kinect v1's
+// (~0.07 px at 1-4 m), for the depth sampled a keypoint's noise away from the point. Used by the
+// config key DepthDisparitySigma and RgbdSensor::disparity_sigma_px (docs/slam_core.md).
+inline constexpr double kDefaultDisparitySigmaPx = 0.15;
+
 struct KeypointObservation {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
   double u_right = -1.0;     // < 0: monocular observation (no valid depth).

@@ -15,6 +15,7 @@
 
 #include <string>
 
+#include "dynorb/core/keypoint_observation.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/io/config_schema.h"
 #include "dynorb/io/tum_sequence.h"
@@ -32,7 +33,7 @@ struct CameraConfig {
   double th_depth = 40.0;
   // Depth noise as a disparity standard deviation in px (DepthDisparitySigma; 0 = ORB-SLAM2's
   // u_r residual with the keypoint's sigma). See RgbdSensor::disparity_sigma_px.
-  double disparity_sigma_px = 0.15;
+  double disparity_sigma_px = kDefaultDisparitySigmaPx;
   // Raw depth units per metre (DepthMapFactor); mirrors dataset.depth_factor.
   double depth_map_factor = 5000.0;
   // ORB-SLAM2's Camera.RGB flag (1 = treat images as RGB, 0 = BGR when converting to grey).

@@ -27,7 +27,7 @@ struct RgbdSensor {
   // Depth noise as a disparity standard deviation (px, in units of bf): the weight of the depth in
   // the RGB-D residual (reprojection_cost.h). 0: ORB-SLAM2's u_r residual with the keypoint's
   // sigma.
-  double disparity_sigma_px = 0.15;
+  double disparity_sigma_px = kDefaultDisparitySigmaPx;
 };
 
 class FrameFeatures {

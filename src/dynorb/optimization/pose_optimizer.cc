@@ -192,8 +192,9 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
     result.nominal_inlier.resize(observations.size());
     for (size_t i = 0; i < observations.size(); ++i) {
       const PoseObservation& obs = observations[i];
-      double gate = NominalGate(obs, options);
-      if (hold_back_provisional && obs.provisional) gate *= options.provisional_gate_factor;
+      const double factor =
+          hold_back_provisional && obs.provisional ? options.provisional_gate_factor : 1.0;
+      const double gate = NominalGate(obs, options) * factor;
       result.nominal_inlier[i] = chi2[i] <= gate;
       result.inlier[i] = chi2[i] <= gate * result.gate_scale;
       result.depth_dropped[i] = false;
@@ -204,7 +205,7 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
         // The pixel alone, against the 2-dof gate (scaled and, if provisional, narrowed alike).
         const double pixel_chi2 = ReprojectionChi2(camera, bf, WithoutDepth(obs.keypoint),
                                                    cam_from_world * obs.point_in_world);
-        const double pixel_gate = options.chi2_mono * gate / NominalGate(obs, options);
+        const double pixel_gate = options.chi2_mono * factor;
         if (pixel_chi2 <= pixel_gate * result.gate_scale) {
           result.inlier[i] = true;
           result.nominal_inlier[i] = pixel_chi2 <= pixel_gate;
