@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <set>
+#include <sstream>
 
 #include "bench_plots.h"
 #include "build_id.h"
@@ -92,6 +93,68 @@ void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
   if (ec) throw InputError("cannot move " + temp + " to " + seq.dataset + ": " + ec.message());
 }
 
+// Adds the view-loss reference of a synthetic sequence (`dynamic`, with its static `twin`): the
+// twin's images run in mode "semantic" with the dynamic sequence's ground-truth masks, so the
+// people hide what they hide and nothing moving reaches the map. Its ATE over the twin's (plain)
+// is the robustness ratio a perfect mask would give.
+void AddViewLossReference(const BenchSequenceRun& dynamic, const BenchSequenceRun& twin,
+                          const BenchSuite& suite, int line, BenchPlan* plan) {
+  const std::vector<std::string> registered = RunModeNames();
+  if (std::find(registered.begin(), registered.end(), "semantic") == registered.end()) {
+    plan->warnings.push_back("the view-loss reference of '" + dynamic.name +
+                             "' needs mode 'semantic', not registered in this build: skipped");
+    return;
+  }
+  bool has_plain = false;
+  for (const BenchMode& m : suite.modes) {
+    if (m.label == kViewLossLabel) {
+      throw InputErrorAt(suite.file, m.line,
+                         std::string("mode label '") + kViewLossLabel +
+                             "' is reserved for the view-loss reference runs");
+    }
+    has_plain = has_plain || (m.name == "plain" && m.config.empty());
+  }
+  if (!has_plain) {
+    throw InputErrorAt(suite.file, line,
+                       "sequence '" + dynamic.name +
+                           "': 'view_loss' needs the mode 'plain' (without a config) in the suite: "
+                           "the reference is divided by the static twin's plain ATE");
+  }
+  if (!plan->view_loss_mode) {
+    plan->view_loss_mode = std::make_unique<BenchMode>();
+    plan->view_loss_mode->name = "semantic";
+    plan->view_loss_mode->label = kViewLossLabel;
+  }
+  BenchSequenceRun ref = twin;
+  ref.name = dynamic.name + kViewLossSuffix;
+  ref.twin_of.clear();
+  ref.twin = false;
+  ref.view_loss_of = dynamic.name;
+  ref.masks_dataset = dynamic.dataset;
+  ref.config = fs::path(dynamic.dataset).string() + "_viewloss.yaml";
+  plan->sequences.push_back(ref);
+}
+
+// The view-loss reference's config: the twin's camera.yaml, plus a `semantic` section reading the
+// dynamic sequence's masks (absolute path). Written atomically before every bench run.
+void WriteViewLossConfig(const BenchSequenceRun& ref) {
+  const fs::path camera = fs::path(ref.dataset) / "camera.yaml";
+  std::ifstream in(camera);
+  if (!in) throw InputError("cannot read " + camera.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  // A JSON string is a valid YAML double-quoted scalar: any folder name survives.
+  const std::string list =
+      nlohmann::json(
+          fs::absolute(fs::path(ref.masks_dataset) / "masks.txt").lexically_normal().string())
+          .dump();
+  WriteFileAtomically(
+      ref.config, text.str() +
+                      "\n# dynorb bench: view-loss reference (the twin's images, the "
+                      "masks of " +
+                      ref.view_loss_of + ")\nsemantic:\n  source: masks\n  list: " + list + "\n");
+}
+
 nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& seeds) {
   nlohmann::json j;
   j["name"] = plan.suite.name;
@@ -109,12 +172,19 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
                               {"dataset", s.dataset},
                               {"tum_name", s.tum_name},
                               {"twin_of", s.twin_of},
+                              {"view_loss_of", s.view_loss_of},
                               {"synthetic", s.synthetic},
                               {"preset", s.synthetic ? s.synth.preset : ""}});
   }
   j["modes"] = nlohmann::json::array();
   for (const BenchMode& m : plan.suite.modes) {
     j["modes"].push_back({{"label", m.label}, {"name", m.name}, {"config", m.config}});
+  }
+  if (plan.view_loss_mode) {
+    j["modes"].push_back({{"label", plan.view_loss_mode->label},
+                          {"name", plan.view_loss_mode->name},
+                          {"config", ""},
+                          {"view_loss", true}});
   }
   return j;
 }
@@ -176,6 +246,7 @@ BenchPlan PlanBench(const BenchOptions& options) {
         twin.tum_name.clear();
         twin.dataset = (cache / CacheName(s.synth, true)).string();
         plan.sequences.push_back(twin);
+        if (s.synth.view_loss) AddViewLossReference(run, twin, suite, s.line, &plan);
       }
       continue;
     }
@@ -205,7 +276,14 @@ BenchPlan PlanBench(const BenchOptions& options) {
   if (plan.sequences.empty()) throw InputError(suite.file + ": no sequence to run (all skipped)");
   const std::vector<uint64_t> seeds = suite.RunSeeds(options.repeats);
   for (const BenchSequenceRun& seq : plan.sequences) {
-    for (const BenchMode& mode : suite.modes) {
+    std::vector<const BenchMode*> seq_modes;
+    if (seq.view_loss_of.empty()) {
+      for (const BenchMode& mode : suite.modes) seq_modes.push_back(&mode);
+    } else {
+      seq_modes.push_back(plan.view_loss_mode.get());
+    }
+    for (const BenchMode* mode_ptr : seq_modes) {
+      const BenchMode& mode = *mode_ptr;
       for (size_t k = 0; k < seeds.size(); ++k) {
         BenchRun run;
         run.sequence = &seq;
@@ -230,7 +308,10 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
     throw InputError("cannot create output folder " + options.out);
   for (const std::string& w : plan.warnings) std::cerr << "bench: warning: " << w << "\n";
   for (const BenchSequenceRun& seq : plan.sequences) {
-    if (seq.synthetic) EnsureSynthetic(seq, options);
+    if (seq.synthetic && seq.view_loss_of.empty()) EnsureSynthetic(seq, options);
+  }
+  for (const BenchSequenceRun& seq : plan.sequences) {
+    if (!seq.view_loss_of.empty()) WriteViewLossConfig(seq);
   }
 
   const std::vector<uint64_t> seeds = plan.suite.RunSeeds(options.repeats);

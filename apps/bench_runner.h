@@ -5,15 +5,18 @@
 // exists; RunPipeline writes it atomically, last), draws plots and writes results.json.
 //
 // Output layout (docs/benchmark.md):
-//   OUT/cache/<preset>_s<seed>_f<frames>[_twin]/   synthetic sequences (reused)
-//   OUT/runs/<sequence>/<mode>/seed<k>/            RunPipeline outputs (stats.json, trajectory.txt,
-//   ...) OUT/plots/<sequence>__<mode>.{png,svg}         trajectory vs ground truth + error over
-//   time OUT/plots/<sequence>__<mode>_keypoints.png     kept (green) / removed (red) keypoints, 4
-//   frames OUT/results.json                               every run (see BuildResultsJson)
+//   OUT/cache/<preset>_s<seed>_f<frames>[_twin]/    synthetic sequences (reused)
+//   OUT/cache/<preset>_s<seed>_f<frames>_viewloss.yaml
+//                                                   config of a view-loss reference run
+//   OUT/runs/<sequence>/<mode>/seed<k>/             RunPipeline outputs (stats.json, ...)
+//   OUT/plots/<sequence>__<mode>.{png,svg}          trajectory vs ground truth, error over time
+//   OUT/plots/<sequence>__<mode>_keypoints.png      kept (green) / removed (red) keypoints
+//   OUT/results.json                                every run (see BuildResultsJson)
 // Single-threaded driver (each run may use the parallel run mode).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -36,7 +39,12 @@ struct BenchOptions {
   std::string models;  // detector models (semantic modes)
 };
 
-// One sequence as run: a suite entry, or the static twin of a synthetic one.
+// Label (mode column) of the view-loss reference runs: mode "semantic" with the dynamic
+// sequence's ground-truth masks on the static twin's images (docs/benchmark.md).
+inline constexpr const char* kViewLossLabel = "view_loss";
+
+// One sequence as run: a suite entry, the static twin of a synthetic one, or its view-loss
+// reference.
 struct BenchSequenceRun {
   std::string name;     // e.g. syn_walking_xyz or syn_walking_xyz_twin
   std::string dataset;  // folder (for synthetic: the cache folder, maybe not generated yet)
@@ -47,6 +55,10 @@ struct BenchSequenceRun {
   bool synthetic = false;
   BenchSyntheticSpec synth;
   bool twin = false;
+  // For a view-loss reference: the dynamic sequence's name and folder (whose masks.txt is used);
+  // `dataset` is the twin's folder, `config` the file RunBench writes before the runs.
+  std::string view_loss_of;
+  std::string masks_dataset;
 };
 
 struct BenchRun {
@@ -66,11 +78,15 @@ struct BenchPlan {
 
   BenchSuite suite;
   std::vector<BenchSequenceRun> sequences;
+  // The view-loss reference's mode (kViewLossLabel), the only one its sequences run; none
+  // without such sequences. Held by pointer so that `runs` stay valid when the plan moves.
+  std::unique_ptr<BenchMode> view_loss_mode;
   std::vector<BenchRun> runs;  // sequence-major, then mode, then seed
   std::vector<std::string> warnings;
 };
 
-// Loads the suite and checks it against the registered modes and the file system. Throws
+// Loads the suite and checks it against the registered modes and the file system (a view-loss
+// reference needs the modes "semantic", registered, and "plain", in the suite). Throws
 // InputError (suite file:line for entries) before anything is written.
 BenchPlan PlanBench(const BenchOptions& options);
 

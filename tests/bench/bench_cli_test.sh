@@ -278,6 +278,57 @@ for stats in (d, now):
 still = [l for l in open(os.path.join(sys.argv[2], "objects.txt")) if not l.startswith("#") and l.split()[2] == "0"]
 assert still or now["ignored"] == 0, now
 EOF
+# The view-loss reference: the twin's images with the dynamic sequence's masks, mode semantic;
+# the same trajectory as the recipe of docs/benchmark.md run by hand.
+cat >"$DIR/vl.yaml" <<'EOF2'
+sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true, view_loss: true}}
+modes: [plain]
+EOF2
+VL="$DIR/vl"
+"$DYNORB" bench --suite "$DIR/vl.yaml" --out "$VL" --people procedural --quiet >"$DIR/vl.txt" 2>&1 ||
+  fail "view-loss suite: $(cat "$DIR/vl.txt")"
+grep -qF "runs: 3 (0 resumed, 0 failed)" "$DIR/vl.txt" || fail "view-loss summary: $(cat "$DIR/vl.txt")"
+cp "$VL/cache/walking_xyz_s3_f14_twin/camera.yaml" "$DIR/vl_by_hand.yaml"
+printf 'semantic:\n  source: masks\n  list: %s\n' "$VL/cache/walking_xyz_s3_f14/masks.txt" >>"$DIR/vl_by_hand.yaml"
+"$DYNORB" run --dataset "$VL/cache/walking_xyz_s3_f14_twin" --mode semantic --config "$DIR/vl_by_hand.yaml" \
+  --out "$DIR/vl_by_hand" --quiet >/dev/null 2>&1 || fail "view-loss run by hand"
+cmp -s "$DIR/vl_by_hand/trajectory.txt" "$VL/runs/syn_viewloss/view_loss/seed1/trajectory.txt" ||
+  fail "the bench's view-loss run differs from the recipe"
+/usr/bin/python3 - "$VL/results.json" <<'EOF2' || fail "view-loss results.json"
+import json, sys
+r = json.load(open(sys.argv[1]))
+runs = {(x["sequence"], x["mode"]): x for x in r["runs"]}
+assert set(runs) == {("syn", "plain"), ("syn_twin", "plain"), ("syn_viewloss", "view_loss")}, set(runs)
+ref = runs[("syn_viewloss", "view_loss")]["stats"]
+assert ref["mode"] == "semantic" and ref["filtered_keypoints_per_frame"]["max"] > 0, ref["filtered_keypoints_per_frame"]
+assert {"label": "view_loss", "name": "semantic", "config": "", "view_loss": True} in r["suite"]["modes"]
+assert [s["view_loss_of"] for s in r["suite"]["sequences"]] == ["", "", "syn"], r["suite"]["sequences"]
+EOF2
+/usr/bin/python3 - "$VL/results.json" "$VL/report.md" <<'EOF2' || fail "view-loss report.md"
+import json, sys
+r = json.load(open(sys.argv[1]))
+ate = {(x["sequence"], x["mode"]): x["stats"]["ate"]["rmse_m"] for x in r["runs"]}
+row = "| syn | %.2f | %.2f |" % (ate[("syn", "plain")] / ate[("syn_twin", "plain")],
+                                ate[("syn_viewloss", "view_loss")] / ate[("syn_twin", "plain")])
+md = open(sys.argv[2]).read()
+robust = md.split("## Robustness ratio")[1].split("\n## ")[0]
+assert "| sequence | plain | view_loss |" in robust and row in robust, (row, robust)
+assert "| syn_viewloss | view_loss |" in md and "| syn_viewloss | plain |" not in md
+assert "| syn | view_loss |" not in md
+EOF2
+check_error view_loss_without_plain "view_loss_without_plain.yaml:2: sequence 'syn': 'view_loss' needs the mode 'plain'" \
+  'sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, frames: 10, view_loss: true}}
+modes: [fast]
+'
+check_error view_loss_label "view_loss_label.yaml:5: mode label 'view_loss' is reserved" \
+  'sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, frames: 10, view_loss: true}}
+modes:
+  - plain
+  - {name: fast, label: view_loss}
+'
 # A cached sequence from another generator version is generated again, not reused.
 sed -i 's/^synth_version: .*/synth_version: 0/' "$OUT/cache/walking_xyz_s3_f14/scene.yaml"
 run_bench >"$DIR/run1v.txt" 2>&1 || fail "run 1v: $(cat "$DIR/run1v.txt")"

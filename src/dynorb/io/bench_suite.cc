@@ -93,13 +93,17 @@ class Parser {
     }
     if (node["path"]) s.path = Str(node["path"], "path");
     if (const YAML::Node syn = node["synthetic"]) {
-      CheckKeys(syn, {"preset", "seed", "frames", "static_twin"}, "'synthetic'");
+      CheckKeys(syn, {"preset", "seed", "frames", "static_twin", "view_loss"}, "'synthetic'");
       s.synthetic = true;
       if (!syn["preset"]) Fail(syn, "'synthetic' needs a 'preset'");
       s.synth.preset = Str(syn["preset"], "preset");
       if (syn["seed"]) s.synth.seed = Seed(syn["seed"], "seed");
       if (syn["frames"]) s.synth.frames = PositiveInt(syn["frames"], "frames", 1);
       if (syn["static_twin"]) s.synth.static_twin = Bool(syn["static_twin"], "static_twin");
+      if (syn["view_loss"]) s.synth.view_loss = Bool(syn["view_loss"], "view_loss");
+      if (s.synth.view_loss && !s.synth.static_twin) {
+        Fail(syn["view_loss"], "'view_loss' needs 'static_twin: true' (it runs the twin's images)");
+      }
     }
     if (node["config"]) s.config = Resolve(Str(node["config"], "config"));
     if (node["frames"]) s.frames = Str(node["frames"], "frames");
@@ -172,7 +176,8 @@ class Parser {
     for (const auto& node : seqs) {
       suite.sequences.push_back(Sequence(node));
       const std::string& name = suite.sequences.back().name;
-      if (!names.insert(name).second || !names.insert(name + "_twin").second) {
+      if (!names.insert(name).second || !names.insert(name + "_twin").second ||
+          !names.insert(name + kViewLossSuffix).second) {
         Fail(node, "duplicate sequence name '" + name + "'");
       }
     }

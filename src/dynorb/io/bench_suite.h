@@ -5,7 +5,7 @@
 //   repeats: 2                  # runs per (sequence, mode); seeds 1..repeats unless `seeds:`
 //   sequences:
 //     - name: syn_walking_xyz
-//       synthetic: {preset: walking_xyz, seed: 1, frames: 60, static_twin: true}
+//       synthetic: {preset: walking_xyz, seed: 1, frames: 60, static_twin: true, view_loss: true}
 //     - name: fr3_walking_xyz
 //       path: rgbd_dataset_freiburg3_walking_xyz   # relative to --dataset-root (or the suite)
 //       config: ../../config/tum_fr3.yaml          # relative to the suite file
@@ -31,7 +31,13 @@ struct BenchSyntheticSpec {
   uint64_t seed = 1;        // generator seed (the SLAM seeds vary per repeat)
   int frames = 0;           // 0: the preset's full length
   bool static_twin = true;  // also generate and run the static twin
+  // Also run the view-loss reference: the twin's images with this sequence's ground-truth masks
+  // (docs/benchmark.md), as sequence "<name>_viewloss". Needs static_twin.
+  bool view_loss = false;
 };
+
+// Name suffix of a sequence's view-loss reference run (reserved like "_twin").
+inline constexpr const char* kViewLossSuffix = "_viewloss";
 
 struct BenchSequence {
   std::string name;  // unique, [A-Za-z0-9_.-]+; used in output paths

@@ -42,6 +42,7 @@ modes:
   EXPECT_EQ(suite.sequences[0].synth.seed, 4u);
   EXPECT_EQ(suite.sequences[0].synth.frames, 60);
   EXPECT_TRUE(suite.sequences[0].synth.static_twin);
+  EXPECT_FALSE(suite.sequences[0].synth.view_loss);  // opt-in
   EXPECT_EQ(suite.sequences[0].line, 4);
   EXPECT_FALSE(suite.sequences[1].synthetic);
   EXPECT_EQ(suite.sequences[1].path, "rgbd_dataset_freiburg3_walking_xyz");
@@ -56,6 +57,16 @@ modes:
   EXPECT_EQ(suite.modes[1].line, 13);
   EXPECT_EQ(suite.RunSeeds(0), (std::vector<uint64_t>{1, 2}));
   EXPECT_EQ(suite.RunSeeds(3), (std::vector<uint64_t>{1, 2, 3}));
+}
+
+TEST(BenchSuite, ViewLossReference) {
+  const BenchSuite suite = ParseBenchSuite(
+      "sequences:\n  - {name: s, synthetic: {preset: walking_static, view_loss: true}}\nmodes: "
+      "[plain]\n",
+      "suite.yaml", "/repo");
+  ASSERT_EQ(suite.sequences.size(), 1u);
+  EXPECT_TRUE(suite.sequences[0].synth.view_loss);
+  EXPECT_TRUE(suite.sequences[0].synth.static_twin);
 }
 
 TEST(BenchSuite, ExplicitSeeds) {
@@ -96,6 +107,18 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
       ErrorOf("sequences:\n  - {name: a, path: x}\n  - {name: a_twin, synthetic: {preset: p}}\n" +
               modes),
       HasSubstr("duplicate sequence name"));
+  EXPECT_THAT(
+      ErrorOf(
+          "sequences:\n  - {name: a, path: x}\n  - {name: a_viewloss, synthetic: {preset: p}}\n" +
+          modes),
+      HasSubstr("suite.yaml:3: duplicate sequence name"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, static_twin: false, "
+                      "view_loss: true}}\n" +
+                      modes),
+              HasSubstr("suite.yaml:2: 'view_loss' needs 'static_twin: true'"));
+  EXPECT_THAT(
+      ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, view_loss: maybe}}\n" + modes),
+      HasSubstr("'view_loss' expects"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: 'a b', path: x}\n" + modes),
               HasSubstr("may only contain"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: -3}}\n" + modes),
