@@ -183,8 +183,21 @@ grep -qF '"front_end_threads": 2' "$OUT/runs/syn/plain/seed1/stats.json" ||
   fail "the tiny suite's runs did not use 2 front-end threads"
 # Keypoint labels of a dynamic mode against the masks: all objects, objects moving at that frame
 # (objects.txt), and per cue; the counts must add up.
-"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >/dev/null 2>&1 ||
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastrun" --quiet >"$DIR/fastrun.txt" 2>&1 ||
   fail "fast run on the cached sequence"
+# The printed summary gives the keypoint labels of stats.json (both truths); a plain run prints none.
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/fastrun.txt" <<'EOF' || fail "summary line of the keypoint labels"
+import json, sys
+now = json.load(open(sys.argv[1]))["dynamic_keypoints"]["moving_now"]
+line = "moving keypoints  precision %.3f, recall %.3f (centre on the mask); outline corners counted: %.3f, %.3f" % (
+    now["precision"], now["recall"], now["support"]["precision"], now["support"]["recall"])
+assert now["true_positive"] + now["false_positive"] > 0, now
+assert line in open(sys.argv[2]).read().splitlines(), (line, open(sys.argv[2]).read())
+EOF
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --out "$DIR/plainrun" --quiet >"$DIR/plainrun.txt" 2>&1 ||
+  fail "plain run on the cached sequence"
+grep -q "ATE RMSE" "$DIR/plainrun.txt" || fail "plain run summary: $(cat "$DIR/plainrun.txt")"
+grep -q "moving keypoints" "$DIR/plainrun.txt" && fail "a plain run printed keypoint labels"
 # Overlays of every 5th frame only (frames 0, 5, 10 of 14); the filter draws nothing on the others.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov" --quiet \
   --save-overlays "$DIR/fastov/overlays" --overlay-every 5 >/dev/null 2>&1 || fail "fast run with overlays"
