@@ -131,16 +131,18 @@ void AddViewLossReference(const BenchSequenceRun& dynamic, const BenchSequenceRu
   ref.twin = false;
   ref.view_loss_of = dynamic.name;
   ref.masks_dataset = dynamic.dataset;
+  // The twin's own config (the sequence's `config:`, else its camera.yaml) plus the masks.
+  ref.view_loss_base_config =
+      twin.config.empty() ? (fs::path(twin.dataset) / "camera.yaml").string() : twin.config;
   ref.config = fs::path(dynamic.dataset).string() + "_viewloss.yaml";
   plan->sequences.push_back(ref);
 }
 
-// The view-loss reference's config: the twin's camera.yaml, plus a `semantic` section reading the
+// The view-loss reference's config: the twin's config, plus a `semantic` section reading the
 // dynamic sequence's masks (absolute path). Written atomically before every bench run.
 void WriteViewLossConfig(const BenchSequenceRun& ref) {
-  const fs::path camera = fs::path(ref.dataset) / "camera.yaml";
-  std::ifstream in(camera);
-  if (!in) throw InputError("cannot read " + camera.string());
+  std::ifstream in(ref.view_loss_base_config);
+  if (!in) throw InputError("cannot read " + ref.view_loss_base_config);
   std::stringstream text;
   text << in.rdbuf();
   // A JSON string is a valid YAML double-quoted scalar: any folder name survives.

@@ -59,6 +59,7 @@ struct BenchSequenceRun {
   // `dataset` is the twin's folder, `config` the file RunBench writes before the runs.
   std::string view_loss_of;
   std::string masks_dataset;
+  std::string view_loss_base_config;  // the twin's config the reference's config starts from
 };
 
 struct BenchRun {

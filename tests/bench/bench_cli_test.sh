@@ -293,16 +293,20 @@ assert still or now["ignored"] == 0, now
 EOF
 # The view-loss reference: the twin's images with the dynamic sequence's masks, mode semantic;
 # the same trajectory as the recipe of docs/benchmark.md run by hand.
+# The sequence's own config (here 800 features) is the base of the reference's config too.
+sed 's/^ORBextractor.nFeatures: .*/ORBextractor.nFeatures: 800/' "$OUT/cache/walking_xyz_s3_f14/camera.yaml" >"$DIR/vl_camera.yaml"
 cat >"$DIR/vl.yaml" <<'EOF2'
 sequences:
-  - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true, view_loss: true}}
+  - {name: syn, config: vl_camera.yaml, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true, view_loss: true}}
 modes: [plain]
 EOF2
 VL="$DIR/vl"
 "$DYNORB" bench --suite "$DIR/vl.yaml" --out "$VL" --people procedural --quiet >"$DIR/vl.txt" 2>&1 ||
   fail "view-loss suite: $(cat "$DIR/vl.txt")"
 grep -qF "runs: 3 (0 resumed, 0 failed)" "$DIR/vl.txt" || fail "view-loss summary: $(cat "$DIR/vl.txt")"
-cp "$VL/cache/walking_xyz_s3_f14_twin/camera.yaml" "$DIR/vl_by_hand.yaml"
+grep -q "^ORBextractor.nFeatures: 800" "$VL/cache/walking_xyz_s3_f14_viewloss.yaml" ||
+  fail "the view-loss config does not start from the sequence's config"
+cp "$DIR/vl_camera.yaml" "$DIR/vl_by_hand.yaml"
 printf 'semantic:\n  source: masks\n  list: %s\n' "$VL/cache/walking_xyz_s3_f14/masks.txt" >>"$DIR/vl_by_hand.yaml"
 "$DYNORB" run --dataset "$VL/cache/walking_xyz_s3_f14_twin" --mode semantic --config "$DIR/vl_by_hand.yaml" \
   --out "$DIR/vl_by_hand" --quiet >/dev/null 2>&1 || fail "view-loss run by hand"
