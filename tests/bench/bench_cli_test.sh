@@ -198,6 +198,19 @@ EOF
   fail "plain run on the cached sequence"
 grep -q "ATE RMSE" "$DIR/plainrun.txt" || fail "plain run summary: $(cat "$DIR/plainrun.txt")"
 grep -q "moving keypoints" "$DIR/plainrun.txt" && fail "a plain run printed keypoint labels"
+# make demo's table (scripts/demo_table.py) over a bench-like layout of these runs: the labels of
+# objects moving at the frame, for the filtering mode only.
+for run in syn/fast:fastrun syn/plain:plainrun syn_twin/plain:bench/runs/syn_twin/plain/seed1; do
+  mkdir -p "$DIR/demo/runs/${run%%:*}/seed1" && cp "$DIR/${run#*:}/stats.json" "$DIR/demo/runs/${run%%:*}/seed1/"
+done
+/usr/bin/python3 "$SRC/scripts/demo_table.py" "$DIR/demo" >"$DIR/demo_table.txt" || fail "demo_table.py: $(cat "$DIR/demo_table.txt")"
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/demo_table.txt" <<'EOF' || fail "demo table: $(cat "$DIR/demo_table.txt")"
+import json, sys
+now = json.load(open(sys.argv[1]))["dynamic_keypoints"]["moving_now"]
+rows = {tuple(l.split()[:2]): l.split() for l in open(sys.argv[2]).read().splitlines()[2:]}
+assert rows[("fast", "dynamic")][-3:] == ["%.2f" % now["recall"], "%.2f" % now["precision"], "%.2f" % now["support"]["precision"]], rows
+assert rows[("plain", "dynamic")][-3:] == ["-", "-", "-"] and rows[("plain", "twin")][-3:] == ["-", "-", "-"], rows
+EOF
 # Overlays of every 5th frame only (frames 0, 5, 10 of 14); the filter draws nothing on the others.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov" --quiet \
   --save-overlays "$DIR/fastov/overlays" --overlay-every 5 >/dev/null 2>&1 || fail "fast run with overlays"
