@@ -98,8 +98,8 @@ void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
 // people hide what they hide and nothing moving reaches the map. Its ATE over the twin's (plain)
 // is the robustness ratio a perfect mask would give.
 void AddViewLossReference(const BenchSequenceRun& dynamic, const BenchSequenceRun& twin,
-                          const BenchSuite& suite, int line, BenchPlan* plan) {
-  const std::vector<std::string> registered = RunModeNames();
+                          const BenchSuite& suite, const std::vector<std::string>& registered,
+                          int line, BenchPlan* plan) {
   if (std::find(registered.begin(), registered.end(), "semantic") == registered.end()) {
     plan->warnings.push_back("the view-loss reference of '" + dynamic.name +
                              "' needs mode 'semantic', not registered in this build: skipped");
@@ -248,7 +248,7 @@ BenchPlan PlanBench(const BenchOptions& options) {
         twin.tum_name.clear();
         twin.dataset = (cache / CacheName(s.synth, true)).string();
         plan.sequences.push_back(twin);
-        if (s.synth.view_loss) AddViewLossReference(run, twin, suite, s.line, &plan);
+        if (s.synth.view_loss) AddViewLossReference(run, twin, suite, registered, s.line, &plan);
       }
       continue;
     }
