@@ -131,13 +131,7 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
 std::unique_ptr<KeypointFilter> FastModeFactory::Create(const RunModeContext& context) {
   FastOptions options = options_;
   options.seed = context.seed;
-  OrbOptions orb;
-  orb.n_features = context.config->orb.n_features;
-  orb.scale_factor = context.config->orb.scale_factor;
-  orb.n_levels = context.config->orb.n_levels;
-  orb.ini_th_fast = context.config->orb.ini_th_fast;
-  orb.min_th_fast = context.config->orb.min_th_fast;
-  return std::make_unique<FastFilter>(options, context.sensor.camera, orb);
+  return std::make_unique<FastFilter>(options, context.sensor.camera, context.orb);
 }
 
 namespace {

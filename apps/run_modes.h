@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "dynorb/dynamic/keypoint_filter.h"
+#include "dynorb/features/orb_extractor.h"
 #include "dynorb/io/config.h"
 #include "dynorb/io/config_schema.h"
 #include "dynorb/map/frame_features.h"
@@ -29,6 +30,7 @@ namespace dynorb {
 struct RunModeContext {
   const SystemConfig* config = nullptr;
   RgbdSensor sensor;
+  OrbOptions orb;  // The tracker's ORB settings (config ORBextractor.*).
   std::string dataset;
   std::string models_dir;  // --models (empty: the mode's default lookup).
   uint64_t seed = 0;

@@ -178,6 +178,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     RunModeContext context;
     context.config = &config;
     context.sensor = options.sensor;
+    context.orb = options.orb;
     context.dataset = cli.dataset;
     context.models_dir = cli.models;
     context.seed = cli.seed;
