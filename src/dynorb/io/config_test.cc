@@ -92,7 +92,7 @@ TEST_F(ConfigTest, ShippedTumConfigsLoadWithExactNumbers) {
     ExpectSameCamera(c.camera.camera, expected);
     EXPECT_EQ(c.camera.fps, 30.0);
     EXPECT_EQ(c.camera.bf, 40.0);
-    EXPECT_EQ(c.camera.th_depth, 40.0);
+    EXPECT_EQ(c.camera.th_depth, 50.0);
     EXPECT_EQ(c.camera.depth_map_factor, 5000.0);
     EXPECT_EQ(c.camera.disparity_sigma_px, 0.15);
     EXPECT_TRUE(c.camera.rgb_order);
@@ -107,7 +107,7 @@ TEST_F(ConfigTest, ShippedTumConfigsLoadWithExactNumbers) {
   }
   EXPECT_NEAR(
       LoadSystemConfig(DYNORB_SOURCE_DIR "/config/tum_fr3.yaml").camera.close_depth_threshold_m(),
-      40.0 * 40.0 / 535.4, 1e-12);
+      50.0 * 40.0 / 535.4, 1e-12);
 }
 
 TEST_F(ConfigTest, OrbSlam2SettingsFileLoads) {

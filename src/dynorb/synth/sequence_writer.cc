@@ -102,7 +102,7 @@ std::string SequenceWriter::CameraYaml(const PinholeCamera& c, double fps, doubl
     << "\nCamera.p1: " << num(c.p1) << "\nCamera.p2: " << num(c.p2) << "\nCamera.k3: " << num(c.k3)
     << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height
     << "\nCamera.fps: " << num(fps)
-    << "\nCamera.bf: 40.0\nCamera.RGB: 1\nThDepth: 40.0\nDepthMapFactor: " << num(depth_factor)
+    << "\nCamera.bf: 40.0\nCamera.RGB: 1\nThDepth: 50.0\nDepthMapFactor: " << num(depth_factor)
     << "\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8"
     << "\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";
   return s.str();

@@ -27,7 +27,8 @@
 namespace dynorb::synth {
 
 inline constexpr const char* kDefaultTextureDir = "/usr/share/doc/opencv-doc/examples/data";
-inline constexpr const char* kSynthVersion = "3";  // 2: people at rest keep their orientation; 3: parallax-correct sprites.
+// 2: people at rest keep their orientation; 3: parallax-correct sprites; 4: camera.yaml ThDepth 50.
+inline constexpr const char* kSynthVersion = "4";
 
 struct SynthOptions {
   std::string preset = "walking_xyz";  // one of Presets() (camera motion, duration, people mode)
