@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/error.h"
+#include "dynorb/io/config.h"
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
 #include "dynorb/synth/sequence_writer.h"
@@ -202,6 +203,12 @@ TEST(Synthesize, WritesATumSequenceThatTheLoaderReadsBack) {
   std::string first;
   std::getline(yaml, first);
   EXPECT_EQ(first, "%YAML:1.0");
+  // The settings a run reads from it: ORB-SLAM2's keys, ThDepth 50 (synth_version 4).
+  const SystemConfig config = LoadSystemConfig((dir / "camera.yaml").string());
+  EXPECT_EQ(config.camera.bf, 40.0);
+  EXPECT_EQ(config.camera.th_depth, 50.0);
+  EXPECT_EQ(config.camera.depth_map_factor, 5000.0);
+  EXPECT_EQ(config.orb.n_features, 1000);
   fs::remove_all(dir);
 }
 
