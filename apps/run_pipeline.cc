@@ -331,7 +331,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.run_mode = cli.run_mode;
   inputs.pipeline = cli.pipeline;
   inputs.pipeline_depth = cli.pipeline ? cli.pipeline_depth : 0;
-  inputs.front_end_threads = cli.pipeline ? cli.front_end_threads : 0;
+  inputs.front_end_threads = cli.pipeline ? system.front_end_threads() : 0;
   inputs.seed = cli.seed;
   inputs.first_frame = first;
   inputs.wall_seconds = wall.ElapsedMs() / 1000.0;

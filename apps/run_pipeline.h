@@ -25,7 +25,7 @@ struct RunRequest {
   int overlay_every = 1;               // draw and save the overlay of every k-th frame only
   bool pipeline = true;                // next frames' front ends overlap this frame's tracking
   int pipeline_depth = 4;              // frames whose front end may run ahead (with pipeline)
-  int front_end_threads = 1;           // with pipeline: SystemOptions::front_end_threads
+  int front_end_threads = 0;           // with pipeline: SystemOptions::front_end_threads (0: auto)
   bool quiet = false;                  // no progress bar
   // Decode every frame before the run (timing as with a live camera: no PNG decoding competing
   // for the cores; memory ~2.2-2.8 MB per 640x480 frame, checked against the machine's).

@@ -163,9 +163,9 @@ class Parser {
       }
     }
     if (root["front_end_threads"]) {
-      suite.front_end_threads = PositiveInt(root["front_end_threads"], "front_end_threads", 1);
+      suite.front_end_threads = PositiveInt(root["front_end_threads"], "front_end_threads", 0);
       if (suite.front_end_threads > 2)
-        Fail(root["front_end_threads"], "'front_end_threads' must be 1 or 2");
+        Fail(root["front_end_threads"], "'front_end_threads' must be 0 (auto), 1 or 2");
     }
     if (root["preload"]) suite.preload = Bool(root["preload"], "preload");
     const YAML::Node seqs = root["sequences"];

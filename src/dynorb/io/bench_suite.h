@@ -71,7 +71,7 @@ struct BenchSuite {
   std::string run_mode = "sequential";
   bool pipeline = true;  // `dynorb run --pipeline` (the default) or --no-pipeline.
   int pipeline_depth = 4;  // `dynorb run --pipeline-depth` (same default), 1..kMaxPipelineDepth.
-  int front_end_threads = 1;  // `dynorb run --front-end-threads` (same default), 1 or 2.
+  int front_end_threads = 0;  // `dynorb run --front-end-threads` (same default): 0 (auto), 1 or 2.
   bool preload = false;  // `dynorb run --preload`: frames decoded before each run (live-camera timing).
   std::vector<BenchSequence> sequences;
   std::vector<BenchMode> modes;

@@ -82,7 +82,12 @@ TEST(BenchSuite, ExplicitSeeds) {
             2);
   EXPECT_FALSE(ParseBenchSuite("pipeline: false\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
                    .pipeline);
-  EXPECT_EQ(suite.front_end_threads, 1);  // `dynorb run --front-end-threads`'s default.
+  EXPECT_EQ(suite.front_end_threads, 0);  // `dynorb run --front-end-threads`'s default (auto).
+  EXPECT_EQ(
+      ParseBenchSuite("front_end_threads: 1\nsequences: [{name: a, path: x}]\nmodes: [plain]\n",
+                      "s.yaml", ".")
+          .front_end_threads,
+      1);
   EXPECT_EQ(
       ParseBenchSuite("front_end_threads: 2\nsequences: [{name: a, path: x}]\nmodes: [plain]\n",
                       "s.yaml", ".")
@@ -141,10 +146,10 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:3: 'pipeline_depth' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 17\n"),
               HasSubstr("suite.yaml:3: 'pipeline_depth' must be 1..16"));
-  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nfront_end_threads: 0\n"),
-              HasSubstr("suite.yaml:3: 'front_end_threads' must be >= 1"));
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nfront_end_threads: -1\n"),
+              HasSubstr("suite.yaml:3: 'front_end_threads' must be >= 0"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nfront_end_threads: 3\n"),
-              HasSubstr("suite.yaml:3: 'front_end_threads' must be 1 or 2"));
+              HasSubstr("suite.yaml:3: 'front_end_threads' must be 0 (auto), 1 or 2"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nmodez: [fast]\n"),
               HasSubstr("suite.yaml:3: unknown key 'modez' in the suite"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}\n"), HasSubstr("invalid YAML"));

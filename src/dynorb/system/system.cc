@@ -16,8 +16,9 @@ void SystemOptions::Validate() const {
     throw InputError("Camera.bf and ThDepth must be positive");
   if (mapper_queue_capacity < 1) throw InputError("mapper queue capacity must be >= 1");
   if (refill_disk_px < 0) throw InputError("refill_disk_px must be >= 0");
-  if (front_end_threads < 1 || front_end_threads > 2)
-    throw InputError("front_end_threads must be 1 or 2, got " + std::to_string(front_end_threads));
+  if (front_end_threads < 0 || front_end_threads > 2)
+    throw InputError("front_end_threads must be 0 (auto), 1 or 2, got " +
+                     std::to_string(front_end_threads));
   orb.Validate();
   tracker.Validate();
   mapper.Validate();
@@ -35,6 +36,11 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
 }
 
 System::~System() { Finish(); }
+
+int System::front_end_threads() const {
+  if (options_.front_end_threads != 0) return options_.front_end_threads;
+  return filter_ ? 2 : 1;
+}
 
 void System::StopFrontEndWorker() {
   // Front ends nobody will ask for are run to the end and dropped.
@@ -63,7 +69,7 @@ std::thread StartWorker(std::unique_ptr<BlockingQueue<std::packaged_task<Result(
 }  // namespace
 
 void System::StartFrontEnd(const NextFrame& frame) {
-  const bool split = options_.front_end_threads == 2;
+  const bool split = front_end_threads() == 2;
   if (!front_jobs_) front_thread_ = StartWorker(&front_jobs_);
   if (split && !detect_jobs_) detect_thread_ = StartWorker(&detect_jobs_);
   // Started before this frame is tracked: the velocity and tracker state of the frame before.

@@ -55,8 +55,9 @@ struct SystemOptions {
   // description of a frame one after the other) or 2: detection (grey image, ORB keypoints) on
   // one, the filter, refill and description on the other, each in frame order, so frame k+1 is
   // detected while frame k is filtered. Same results either way (the filter sees the same input).
-  // On 2 cores, 2 threads were no faster (session 25, docs/slam_core.md): hence 1.
-  int front_end_threads = 1;
+  // 0 (default): 2 when there is a keypoint filter, 1 without (plain mode: detection and
+  // description alone are too light to split; session 31, docs/slam_core.md).
+  int front_end_threads = 0;
   void Validate() const;  // Throws InputError.
 };
 
@@ -140,6 +141,8 @@ class System {
   size_t NumLandmarks() const;
   const Map& map() const { return map_; }
   void set_record_keypoints(bool on) { record_keypoints_ = on; }
+  // Front-end worker threads when pipelined: SystemOptions::front_end_threads, 0 resolved.
+  int front_end_threads() const;
   // Asks the filter for its overlay drawing each frame (kept in the latest record only).
   void set_record_overlays(bool on) { record_overlays_ = on; }
 

@@ -383,15 +383,35 @@ TEST(System, AFailedPipelinedFrontEndRethrowsItsErrorAndDropsTheFramesAnnouncedA
   }
 }
 
-TEST(System, RejectsFrontEndThreadsOtherThanOneOrTwo) {
+TEST(System, RejectsFrontEndThreadsOtherThanAutoOneOrTwo) {
   FeatureWorld world(1);
   SystemOptions options = Options(world, RunMode::kSequential);
-  for (int threads : {0, 3}) {
+  for (int threads : {-1, 3}) {
     options.front_end_threads = threads;
     EXPECT_THROW(options.Validate(), InputError) << threads;
   }
+  for (int threads : {0, 1, 2}) {
+    options.front_end_threads = threads;
+    EXPECT_NO_THROW(options.Validate()) << threads;
+  }
+}
+
+TEST(System, AutoFrontEndThreadsSplitsOnlyWhenThereIsAFilter) {
+  FeatureWorld world(1);
+  SystemOptions options = Options(world, RunMode::kSequential);
+  ASSERT_EQ(options.front_end_threads, 0);  // The default is auto.
+  std::vector<std::optional<Rigid3d>> predictions;
+  std::vector<FrameId> order;
+  EXPECT_EQ(System(options).front_end_threads(), 1);
+  EXPECT_EQ(System(options, std::make_unique<PredictionRecorder>(&predictions, &order))
+                .front_end_threads(),
+            2);
   options.front_end_threads = 1;
-  EXPECT_NO_THROW(options.Validate());
+  EXPECT_EQ(System(options, std::make_unique<PredictionRecorder>(&predictions, &order))
+                .front_end_threads(),
+            1);
+  options.front_end_threads = 2;
+  EXPECT_EQ(System(options).front_end_threads(), 2);
 }
 
 TEST(System, RejectsBadImages) {
