@@ -76,6 +76,9 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("close_untracked_min", &t->close_untracked_min, "... and untracked close points above this")
       .Add("close_keyframe_min_frames", &t->close_keyframe_min_frames,
            "frames after a keyframe before 'need close points' may ask again")
+      .Add("filtered_keyframe_fraction", &t->filtered_keyframe_fraction,
+           "once max_frames_between_keyframes have passed, a frame whose filter removed at least this fraction of "
+           "the keypoints needs close points whatever their tracked count (0: off)")
       .Add("new_close_points", &t->new_close_points,
            "landmarks created from depth per new keyframe: all closer than ThDepth, at least this many nearest")
       .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")

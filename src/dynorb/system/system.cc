@@ -292,8 +292,10 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   Stopwatch watch;
   const bool mapper_idle =
       options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
-  const TrackingResult result =
-      tracker_.ProcessOne(Frame(record->id, record->timestamp_s, std::move(features)), mapper_idle);
+  Frame frame(record->id, record->timestamp_s, std::move(features));
+  if (record->num_keypoints > 0)
+    frame.filtered_fraction = static_cast<double>(record->num_filtered) / record->num_keypoints;
+  const TrackingResult result = tracker_.ProcessOne(std::move(frame), mapper_idle);
   record->timing.track_ms = watch.ElapsedMs();
   record->timing.local_map_ms = result.local_map_ms;
   record->state = result.state;

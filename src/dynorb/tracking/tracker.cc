@@ -11,11 +11,13 @@
 namespace dynorb {
 
 void TrackerOptions::Validate() const {
-  if (min_init_points < 10 || min_init_depth_points < 3 || motion_radius_px <= 0 || local_map_radius_factor <= 0 || min_frame_inliers < 3 ||
-      min_local_map_inliers < 3 || max_local_keyframes < 1 || max_frames_between_keyframes < 1 ||
-      reference_ratio <= 0 || reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
+  if (min_init_points < 10 || min_init_depth_points < 3 || motion_radius_px <= 0 ||
+      local_map_radius_factor <= 0 || min_frame_inliers < 3 || min_local_map_inliers < 3 ||
+      max_local_keyframes < 1 || max_frames_between_keyframes < 1 || reference_ratio <= 0 ||
+      reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
       close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0 ||
-      new_close_points < 0) {
+      new_close_points < 0 ||
+      !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0)) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }
   if (!(motion_prior_sigma_m >= 0.0) ||
@@ -299,10 +301,14 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
       ++untracked_close;
     }
   }
-  const bool need_close = tracked_close < options_.close_tracked_max && untracked_close > options_.close_untracked_min &&
-                          frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.close_keyframe_min_frames);
-  const double ratio = num_keyframes < 2 ? 0.4 : options_.reference_ratio;
   const bool c1a = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(max_frames);
+  const bool covered = options_.filtered_keyframe_fraction > 0.0 && c1a &&
+                       frame.filtered_fraction >= options_.filtered_keyframe_fraction;
+  const bool need_close =
+      (tracked_close < options_.close_tracked_max || covered) &&
+      untracked_close > options_.close_untracked_min &&
+      frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.close_keyframe_min_frames);
+  const double ratio = num_keyframes < 2 ? 0.4 : options_.reference_ratio;
   const bool c1b = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(options_.min_frames_between_keyframes) &&
                    mapper_idle;
   const bool c1c = inliers < reference_matches * 0.25 || need_close;

@@ -28,6 +28,13 @@ struct TrackerOptions {
   // where a busy mapper spaces them). Unrepeatable close keypoints (texture-poor desks, sensor
   // noise) otherwise keep the rule true and give a keyframe per frame, half of them culled again.
   int close_keyframe_min_frames = 5;
+  // A keyframe for a view the keypoint filter keeps covering (0: off = ORB-SLAM2). When
+  // max_frames_between_keyframes have passed since the last keyframe, the filter removed at least
+  // this fraction of the frame's detected keypoints and more than close_untracked_min close
+  // keypoints are unmatched, "need close points" holds even with many close points tracked: the
+  // background the movers do not cover keeps the tracked count above the reference rule, and
+  // the stretch would otherwise get no keyframe (session 30/31, docs/slam_core.md).
+  double filtered_keyframe_fraction = 0.0;
   // A landmark seen by one keyframe and found in fewer frames than this is provisional in pose
   // optimisation (optimization/pose_optimizer.h): it must agree with the pose of the established
   // map before it counts. Keyframes turn every untracked close keypoint into a landmark — in a

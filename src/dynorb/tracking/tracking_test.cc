@@ -254,6 +254,60 @@ TEST(TrackerOptions, RejectsNegativeNewClosePoints) {
   EXPECT_NO_THROW(options.Validate());
 }
 
+// The keypoints of two frames as one (a view of the mapped world plus unmapped clutter).
+std::shared_ptr<const FrameFeatures> Merge(const FrameFeatures& a, const FrameFeatures& b,
+                                           const RgbdSensor& sensor) {
+  OrbFeatures orb;
+  orb.keypoints = a.keypoints();
+  orb.keypoints.insert(orb.keypoints.end(), b.keypoints().begin(), b.keypoints().end());
+  cv::vconcat(a.descriptors(), b.descriptors(), orb.descriptors);
+  std::vector<float> depths;
+  for (int i = 0; i < a.size(); ++i) depths.push_back(a.depth(i));
+  for (int i = 0; i < b.size(); ++i) depths.push_back(b.depth(i));
+  return std::make_shared<const FrameFeatures>(orb, depths, sensor, a.levels());
+}
+
+// A camera at rest sees the mapped room and, from frame 1 on, close clutter that never matches
+// (what a filter leaves of a view movers keep covering: many untracked close keypoints, many
+// tracked ones too). ORB-SLAM2's rules never ask for a keyframe; filtered_keyframe_fraction does,
+// once max_frames_between_keyframes have passed, and only when the filter removed that much.
+TEST_F(TrackerTest, FilteredKeyframeFractionAsksForAKeyframeWhenTheFilterKeepsCoveringTheView) {
+  const testing::FeatureWorld room(7, 20000), clutter(8, 6000);
+  const Rigid3d at_rest(Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(0.0, 0.0, 1.0));  // Front wall 2 m away: close.
+  auto run = [&](double rule, double filtered) {
+    TrackerOptions options;
+    options.filtered_keyframe_fraction = rule;
+    Map map;
+    Tracker tracker(room.sensor(), options, &map);
+    std::vector<FrameId> keyframes_at;
+    for (FrameId id = 0; id < 45; ++id) {
+      const auto view = room.Observe(at_rest, 1000 + id);
+      Frame frame(
+          id, id / 30.0,
+          id == 0 ? view : Merge(*view, *clutter.Observe(at_rest, 5000 + id), room.sensor()));
+      frame.filtered_fraction = filtered;
+      const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
+      EXPECT_TRUE(r.pose_valid) << id;
+      if (r.new_keyframe != kNoKeyframe) keyframes_at.push_back(id);
+    }
+    return keyframes_at;
+  };
+  EXPECT_EQ(run(0.0, 0.3), std::vector<FrameId>{0});
+  EXPECT_EQ(run(0.15, 0.1), std::vector<FrameId>{0});  // The filter removed too little.
+  EXPECT_EQ(run(0.15, 0.3), (std::vector<FrameId>{0, 30}));
+}
+
+TEST(TrackerOptions, RejectsAFilteredKeyframeFractionOutsideZeroOne) {
+  TrackerOptions options;
+  for (double bad : {-0.1, 1.5}) {
+    options.filtered_keyframe_fraction = bad;
+    EXPECT_THROW(options.Validate(), InputError) << bad;
+  }
+  options.filtered_keyframe_fraction = 1.0;
+  EXPECT_NO_THROW(options.Validate());
+}
+
 TEST_F(TrackerTest, SequentialRunIsDeterministic) {
   std::vector<Eigen::Matrix4d> runs[2];
   for (auto& poses : runs) {
