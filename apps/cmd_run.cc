@@ -37,12 +37,10 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
                   "worker keep going while a keyframe is mapped; deterministic; the motion prediction is that many frames "
                   "older; live, each frame ahead adds a frame period of latency)")
       ->check(CLI::Range(1, kMaxPipelineDepth));
-  cmd->add_option(
-         "--front-end-threads", cli->front_end_threads,
-         "With --pipeline: 1 runs the front ends on one thread; 2 detects the next frame's ORB "
-         "keypoints on one thread while the filter and description of the frame before run on "
-         "another "
-         "(same results); 0 (default): 2 in the modes that filter keypoints, 1 in plain mode")
+  cmd->add_option("--front-end-threads", cli->front_end_threads,
+                  "With --pipeline: 1 runs the front ends on one thread; 2 detects the next frame's ORB keypoints "
+                  "on one thread while the filter and description of the frame before run on another (same "
+                  "results); 0 (default): 2 in the modes that filter keypoints, 1 in plain mode")
       ->check(CLI::Range(0, 2));
   cmd->add_flag("--preload", cli->preload,
                 "Decode every frame into memory before the run starts, so that the timing is that of a live camera "

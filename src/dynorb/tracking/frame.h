@@ -22,8 +22,8 @@ struct Frame {
   std::vector<bool> outlier_at_fixed_gates;      // Per keypoint: outside the unscaled (1-px) gates.
   Rigid3d cam_from_world;
   KeyframeId reference_keyframe = kNoKeyframe;
-  double filtered_fraction =
-      0.0;  // Of the detected keypoints, the fraction the keypoint filter removed.
+  // Of the detected keypoints, the fraction the keypoint filter removed (0 without a filter).
+  double filtered_fraction = 0.0;
 
   Frame() = default;
   Frame(FrameId frame_id, double stamp_s, std::shared_ptr<const FrameFeatures> f)
