@@ -35,7 +35,7 @@ std::vector<bool> ResolveDynamicClasses(const std::vector<std::string>& wanted,
 struct SemanticOptions {
   DetectorOptions detector;                               // model, models_dir, thresholds
   std::vector<std::string> classes = DefaultDynamicClasses();  // a-priori dynamic classes
-  int detect_every = 3;         // run the provider on every Nth frame (>= 1), carry masks between
+  int detect_every = 4;         // run the provider on every Nth frame (>= 1), carry masks between
   int detector_latency = 0;     // 0: detect inline; L > 0: detect on a worker thread, use the
                                 // result L frames later (carried by flow), L < detect_every
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
