@@ -191,6 +191,17 @@ BenchTable PublishedTable(const Runs& runs, const Names& names, const Json& publ
   return t;
 }
 
+// How the suite's pipelined runs split their front ends (`dynorb run --front-end-threads`;
+// results written before the key existed ran on one thread).
+std::string FrontEndThreadsText(const Json& suite) {
+  if (!suite.value("pipeline", false)) return "";
+  switch (suite.value("front_end_threads", 1)) {
+    case 0: return ", 2 front-end threads with a filter (1 in plain)";
+    case 2: return ", 2 front-end threads";
+    default: return "";
+  }
+}
+
 }  // namespace
 
 BenchReportContent BuildBenchReport(const Json& results, const Json& published,
@@ -216,9 +227,7 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
                       (suite.contains("pipeline_depth") && suite.value("pipeline", false)
                            ? " (depth " + std::to_string(suite["pipeline_depth"].get<int>()) + ")"
                            : "") +
-                      (suite.value("front_end_threads", 1) == 2 && suite.value("pipeline", false)
-                           ? ", 2 front-end threads"
-                           : "") +
+                      FrontEndThreadsText(suite) +
                       (suite.value("preload", false) ? ", frames preloaded (live-camera timing)" : "") +
                       ", seeds " +
                       suite["seeds"].dump());

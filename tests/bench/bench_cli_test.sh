@@ -317,6 +317,13 @@ VL="$DIR/vl"
 "$DYNORB" bench --suite "$DIR/vl.yaml" --out "$VL" --people procedural --quiet >"$DIR/vl.txt" 2>&1 ||
   fail "view-loss suite: $(cat "$DIR/vl.txt")"
 grep -qF "runs: 3 (0 resumed, 0 failed)" "$DIR/vl.txt" || fail "view-loss summary: $(cat "$DIR/vl.txt")"
+# The default front_end_threads (auto): two with a filter, one in plain mode, and the report says so.
+grep -qF "pipeline on (depth 4), 2 front-end threads with a filter (1 in plain)," "$VL/report.md" ||
+  fail "the view-loss report does not say how many front-end threads the runs used"
+grep -qF '"front_end_threads": 2' "$VL/runs/syn_viewloss/view_loss/seed1/stats.json" ||
+  fail "the view-loss (semantic) run did not use 2 front-end threads"
+grep -qF '"front_end_threads": 1' "$VL/runs/syn/plain/seed1/stats.json" ||
+  fail "the plain run did not use 1 front-end thread"
 grep -q "^ORBextractor.nFeatures: 800" "$VL/cache/walking_xyz_s3_f14_viewloss.yaml" ||
   fail "the view-loss config does not start from the sequence's config"
 cp "$DIR/vl_camera.yaml" "$DIR/vl_by_hand.yaml"
