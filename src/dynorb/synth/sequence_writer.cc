@@ -7,6 +7,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
+#include "dynorb/io/config.h"
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/synth/png_writer.h"
 
@@ -100,9 +101,12 @@ std::string SequenceWriter::CameraYaml(const PinholeCamera& c, double fps, doubl
     << "Camera.fx: " << num(c.fx) << "\nCamera.fy: " << num(c.fy) << "\nCamera.cx: " << num(c.cx)
     << "\nCamera.cy: " << num(c.cy) << "\nCamera.k1: " << num(c.k1) << "\nCamera.k2: " << num(c.k2)
     << "\nCamera.p1: " << num(c.p1) << "\nCamera.p2: " << num(c.p2) << "\nCamera.k3: " << num(c.k3)
-    << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height
-    << "\nCamera.fps: " << num(fps)
-    << "\nCamera.bf: 40.0\nCamera.RGB: 1\nThDepth: 50.0\nDepthMapFactor: " << num(depth_factor)
+    << "\nCamera.width: " << c.width << "\nCamera.height: " << c.height << "\nCamera.fps: "
+    << num(fps)
+    // bf and ThDepth: the code defaults (ORB-SLAM2's bf; ThDepth 50, docs/slam_core.md).
+    << "\nCamera.bf: " << num(CameraConfig().bf)
+    << "\nCamera.RGB: 1\nThDepth: " << num(CameraConfig().th_depth)
+    << "\nDepthMapFactor: " << num(depth_factor)
     << "\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\nORBextractor.nLevels: 8"
     << "\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n";
   return s.str();
