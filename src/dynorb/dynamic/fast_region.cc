@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/dynamic/fast_cues.h"
+#include "dynorb/dynamic/morphology.h"
 
 namespace dynorb {
 namespace {
@@ -59,13 +60,11 @@ cv::Mat UpsampleAndDilate(const cv::Mat& low_mask, int scale, cv::Size full_size
   up(cv::Rect(0, 0, blocks.width, blocks.height)).copyTo(full(blocks));
   if (dilate_px > 0) {
     // Outside this window every pixel is farther than the radius from a set one, so stays 0.
-    const cv::Rect window =
-        cv::Rect(blocks.x - dilate_px, blocks.y - dilate_px, blocks.width + 2 * dilate_px,
-                 blocks.height + 2 * dilate_px) & image;
-    const int k = 2 * dilate_px + 1;
+    const cv::Rect window = cv::Rect(blocks.x - dilate_px, blocks.y - dilate_px,
+                                     blocks.width + 2 * dilate_px, blocks.height + 2 * dilate_px) &
+                            image;
     cv::Mat dilated;
-    cv::dilate(full(window), dilated, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)), cv::Point(-1, -1),
-               1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
+    DilateEllipse(full(window), dilate_px, &dilated);
     dilated.copyTo(full(window));
   }
   return full;

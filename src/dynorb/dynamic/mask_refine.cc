@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/core/error.h"
+#include "dynorb/dynamic/morphology.h"
 
 namespace dynorb {
 namespace {
@@ -39,11 +40,7 @@ void FillDilated(const cv::Rect& rect, const cv::Mat& local, int dilation_px, cv
                                   rect.height + 2 * dilation_px);
   cv::Mat canvas = cv::Mat::zeros(grown.size(), CV_8U);
   local.copyTo(canvas(cv::Rect(dilation_px, dilation_px, rect.width, rect.height)));
-  if (dilation_px > 0) {
-    const cv::Mat kernel =
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * dilation_px + 1, 2 * dilation_px + 1));
-    cv::dilate(canvas, canvas, kernel);
-  }
+  DilateEllipse(canvas, dilation_px, &canvas);
   const cv::Rect clipped = grown & image;
   cv::Mat target = (*mask)(clipped);
   cv::bitwise_or(target, canvas(cv::Rect(clipped.x - grown.x, clipped.y - grown.y, clipped.width, clipped.height)),
@@ -75,17 +72,27 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   }
   CV_Assert(depth_m.type() == CV_32F && depth_m.size() == mask->size());
   const cv::Mat depth = depth_m(rect);
-  std::vector<float> all, central;
+  // The valid depths of the box and of its central part (branch-free appends into buffers of
+  // the full size; only the values matter below, not their order).
   const int cx0 = rect.width * 3 / 10, cx1 = rect.width * 7 / 10;
   const int cy0 = rect.height * 2 / 10, cy1 = rect.height * 8 / 10;
+  std::vector<float> all(rect.area()),
+      central(static_cast<size_t>(cx1 - cx0 + 1) * (cy1 - cy0 + 1));
+  size_t num_all = 0, num_central = 0;
   for (int y = 0; y < depth.rows; ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = 0; x < depth.cols; ++x) {
-      if (!(row[x] > 0.f)) continue;
-      all.push_back(row[x]);
-      if (x >= cx0 && x <= cx1 && y >= cy0 && y <= cy1) central.push_back(row[x]);
+      all[num_all] = row[x];
+      num_all += row[x] > 0.f;
+    }
+    if (y < cy0 || y > cy1) continue;
+    for (int x = cx0; x <= cx1; ++x) {
+      central[num_central] = row[x];
+      num_central += row[x] > 0.f;
     }
   }
+  all.resize(num_all);
+  central.resize(num_central);
   if (all.size() < options.min_valid_fraction * rect.area() || all.empty()) {
     FillDilated(rect, local, options.dilation_px, mask);
     return result;
@@ -113,12 +120,13 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   }
   if (!cluster.empty()) reference = Median(&cluster);
   const float band = static_cast<float>(options.band_m + options.band_per_m * reference);
-  for (int y = 0; y < depth.rows; ++y) {
-    const float* row = depth.ptr<float>(y);
-    uint8_t* out = local.ptr<uint8_t>(y);
-    for (int x = 0; x < depth.cols; ++x) out[x] = (row[x] > 0.f && std::abs(row[x] - reference) < band) ? 255 : 0;
-  }
-  cv::morphologyEx(local, local, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  // local = (depth > 0) & (|depth - reference| < band), as 255 / 0.
+  cv::Mat near_reference, valid;
+  cv::absdiff(depth, cv::Scalar(reference), near_reference);
+  cv::compare(near_reference, band, local, cv::CMP_LT);
+  cv::compare(depth, 0.0, valid, cv::CMP_GT);
+  cv::bitwise_and(local, valid, local);
+  CloseEllipse(local, 2, &local);
   FillDilated(rect, local, options.dilation_px, mask);
   result.depth_m = reference;
   result.refined = true;
