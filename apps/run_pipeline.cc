@@ -79,6 +79,10 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("filtered_keyframe_fraction", &t->filtered_keyframe_fraction,
            "once max_frames_between_keyframes have passed, a frame whose filter removed at least this fraction of "
            "the keypoints needs close points whatever their tracked count (0: off)")
+      .Add("filtered_keyframe_min_motion_m", &t->filtered_keyframe_min_motion_m,
+           "... once the camera is at least this far from its reference keyframe (m) ...")
+      .Add("filtered_keyframe_min_rotation_deg", &t->filtered_keyframe_min_rotation_deg,
+           "... or turned at least this much from it (deg; both 0: no motion condition)")
       .Add("new_close_points", &t->new_close_points,
            "landmarks created from depth per new keyframe: all closer than ThDepth, at least this many nearest")
       .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")

@@ -1,6 +1,7 @@
 #include "dynorb/tracking/tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "dynorb/core/error.h"
@@ -17,7 +18,8 @@ void TrackerOptions::Validate() const {
       reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
       close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0 ||
       new_close_points < 0 ||
-      !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0)) {
+      !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0) ||
+      !(filtered_keyframe_min_motion_m >= 0.0) || !(filtered_keyframe_min_rotation_deg >= 0.0)) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }
   if (!(motion_prior_sigma_m >= 0.0) ||
@@ -276,11 +278,25 @@ bool Tracker::TrackLocalMap(Frame* frame, int* inliers) {
   return *inliers >= needed;
 }
 
+bool Tracker::MovedFromReference(const Frame& frame,
+                                 const std::optional<Rigid3d>& reference_cam_from_world) const {
+  const double min_m = options_.filtered_keyframe_min_motion_m;
+  const double min_deg = options_.filtered_keyframe_min_rotation_deg;
+  if (min_m <= 0.0 && min_deg <= 0.0) return true;
+  if (!reference_cam_from_world) return true;
+  const Rigid3d reference_from_cam = *reference_cam_from_world * frame.cam_from_world.Inverse();
+  return (min_m > 0.0 && reference_from_cam.translation.norm() >= min_m) ||
+         (min_deg > 0.0 && RotationAngleRad(reference_from_cam.rotation) * 180.0 / M_PI >= min_deg);
+}
+
 bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
+  std::optional<Rigid3d> reference_cam_from_world;
   const auto [num_keyframes, reference_matches] = map_->Read([&](const MapData& map) {
     const int n = static_cast<int>(map.NumKeyframes());
     const int min_obs = n <= 2 ? 2 : 3;  // Weighted (ORB-SLAM2): a depth observation counts 2.
-    const int ref = map.HasKeyframe(reference_keyframe_) ? map.NumTrackedLandmarks(reference_keyframe_, min_obs) : 0;
+    const bool has_reference = map.HasKeyframe(reference_keyframe_);
+    if (has_reference) reference_cam_from_world = map.keyframe(reference_keyframe_).cam_from_world;
+    const int ref = has_reference ? map.NumTrackedLandmarks(reference_keyframe_, min_obs) : 0;
     return std::make_pair(n, ref);
   });
   const int max_frames = options_.max_frames_between_keyframes;
@@ -303,7 +319,8 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
   }
   const bool c1a = frame.id >= last_keyframe_frame_ + static_cast<FrameId>(max_frames);
   const bool covered = options_.filtered_keyframe_fraction > 0.0 && c1a &&
-                       frame.filtered_fraction >= options_.filtered_keyframe_fraction;
+                       frame.filtered_fraction >= options_.filtered_keyframe_fraction &&
+                       MovedFromReference(frame, reference_cam_from_world);
   const bool need_close =
       (tracked_close < options_.close_tracked_max || covered) &&
       untracked_close > options_.close_untracked_min &&

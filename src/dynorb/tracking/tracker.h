@@ -57,6 +57,9 @@ class Tracker {
   bool TrackLocalMap(Frame* frame, int* inliers);
   int OptimizeAndCount(Frame* frame, bool drop_outliers);
   bool NeedNewKeyframe(const Frame& frame, bool mapper_idle) const;
+  // The covered-view rule's motion condition (TrackerOptions::filtered_keyframe_min_motion_m).
+  bool MovedFromReference(const Frame& frame,
+                          const std::optional<Rigid3d>& reference_cam_from_world) const;
   // Inserts the frame as a keyframe and creates landmarks from its depth: every keypoint with depth
   // (first keyframe) or the nearest ones until new_close_points beyond th_depth (ORB-SLAM2).
   // `created` (optional) receives the indices of the keypoints that became new landmarks.

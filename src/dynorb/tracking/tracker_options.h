@@ -33,8 +33,15 @@ struct TrackerOptions {
   // this fraction of the frame's detected keypoints and more than close_untracked_min close
   // keypoints are unmatched, "need close points" holds even with many close points tracked: the
   // background the movers do not cover keeps the tracked count above the reference rule, and
-  // the stretch would otherwise get no keyframe (session 30/31, docs/slam_core.md).
-  double filtered_keyframe_fraction = 0.0;
+  // the stretch would otherwise get no keyframe (sessions 30-32, docs/slam_core.md). Without a
+  // keypoint filter (plain mode) the fraction is 0 and nothing changes.
+  double filtered_keyframe_fraction = 0.15;
+  // ... and only once the camera is at least this far (m) or turned at least this much (deg) from
+  // its reference keyframe: a keyframe at the reference's viewpoint sees the same background the
+  // movers leave (session 32: walking_static, a camera within ~2 cm / 1 deg, got worse with the
+  // rule). Both 0: no motion condition.
+  double filtered_keyframe_min_motion_m = 0.05;
+  double filtered_keyframe_min_rotation_deg = 5.0;
   // A landmark seen by one keyframe and found in fewer frames than this is provisional in pose
   // optimisation (optimization/pose_optimizer.h): it must agree with the pose of the established
   // map before it counts. Keyframes turn every untracked close keypoint into a landmark — in a

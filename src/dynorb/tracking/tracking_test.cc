@@ -273,19 +273,22 @@ std::shared_ptr<const FrameFeatures> Merge(const FrameFeatures& a, const FrameFe
 // once max_frames_between_keyframes have passed, and only when the filter removed that much.
 TEST_F(TrackerTest, FilteredKeyframeFractionAsksForAKeyframeWhenTheFilterKeepsCoveringTheView) {
   const testing::FeatureWorld room(7, 20000), clutter(8, 6000);
-  const Rigid3d at_rest(Eigen::Quaterniond::Identity(),
-                        Eigen::Vector3d(0.0, 0.0, 1.0));  // Front wall 2 m away: close.
-  auto run = [&](double rule, double filtered) {
-    TrackerOptions options;
-    options.filtered_keyframe_fraction = rule;
+  // Front wall 2 m away (close); the camera slides step_m along x and turns step_deg about y per
+  // frame.
+  auto run = [&](TrackerOptions options, double filtered, double step_m = 0.0,
+                 double step_deg = 0.0) {
     Map map;
     Tracker tracker(room.sensor(), options, &map);
     std::vector<FrameId> keyframes_at;
     for (FrameId id = 0; id < 45; ++id) {
-      const auto view = room.Observe(at_rest, 1000 + id);
-      Frame frame(
-          id, id / 30.0,
-          id == 0 ? view : Merge(*view, *clutter.Observe(at_rest, 5000 + id), room.sensor()));
+      const Rigid3d cam_from_world(Eigen::Quaterniond(Eigen::AngleAxisd(
+                                       step_deg * id * M_PI / 180.0, Eigen::Vector3d::UnitY())),
+                                   Eigen::Vector3d(step_m * id, 0.0, 1.0));
+      const auto view = room.Observe(cam_from_world, 1000 + id);
+      Frame frame(id, id / 30.0,
+                  id == 0
+                      ? view
+                      : Merge(*view, *clutter.Observe(cam_from_world, 5000 + id), room.sensor()));
       frame.filtered_fraction = filtered;
       const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
       EXPECT_TRUE(r.pose_valid) << id;
@@ -293,9 +296,20 @@ TEST_F(TrackerTest, FilteredKeyframeFractionAsksForAKeyframeWhenTheFilterKeepsCo
     }
     return keyframes_at;
   };
-  EXPECT_EQ(run(0.0, 0.3), std::vector<FrameId>{0});
-  EXPECT_EQ(run(0.15, 0.1), std::vector<FrameId>{0});  // The filter removed too little.
-  EXPECT_EQ(run(0.15, 0.3), (std::vector<FrameId>{0, 30}));
+  TrackerOptions off, on, anywhere;  // on: the defaults (0.15; 5 cm or 5 deg)
+  off.filtered_keyframe_fraction = 0.0;
+  anywhere.filtered_keyframe_min_motion_m = anywhere.filtered_keyframe_min_rotation_deg = 0.0;
+  const std::vector<FrameId> first_only{0}, at_30{0, 30};
+  // At rest: only without the motion condition, and only when the filter removed enough.
+  EXPECT_EQ(run(off, 0.3), first_only);
+  EXPECT_EQ(run(anywhere, 0.1), first_only);
+  EXPECT_EQ(run(anywhere, 0.3), at_30);
+  EXPECT_EQ(run(on, 0.3), first_only);
+  // Moving: 9 cm (>= 5 cm) or 7.5 deg (>= 5 deg) from the reference keyframe by frame 30.
+  EXPECT_EQ(run(on, 0.3, 0.003), at_30);
+  EXPECT_EQ(run(on, 0.3, 0.0, 0.25), at_30);
+  EXPECT_EQ(run(off, 0.3, 0.003), first_only);
+  EXPECT_EQ(run(on, 0.3, 0.001), first_only);  // 3 cm: not yet a new viewpoint
 }
 
 TEST(TrackerOptions, RejectsAFilteredKeyframeFractionOutsideZeroOne) {
@@ -306,6 +320,11 @@ TEST(TrackerOptions, RejectsAFilteredKeyframeFractionOutsideZeroOne) {
   }
   options.filtered_keyframe_fraction = 1.0;
   EXPECT_NO_THROW(options.Validate());
+  options.filtered_keyframe_min_motion_m = -0.01;
+  EXPECT_THROW(options.Validate(), InputError);
+  options.filtered_keyframe_min_motion_m = 0.0;
+  options.filtered_keyframe_min_rotation_deg = -1.0;
+  EXPECT_THROW(options.Validate(), InputError);
 }
 
 TEST_F(TrackerTest, SequentialRunIsDeterministic) {
