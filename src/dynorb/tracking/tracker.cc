@@ -18,9 +18,13 @@ void TrackerOptions::Validate() const {
       reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
       close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0 ||
       new_close_points < 0 ||
-      !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0) ||
-      !(filtered_keyframe_min_motion_m >= 0.0) || !(filtered_keyframe_min_rotation_deg >= 0.0)) {
+      !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0)) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
+  }
+  if (!(filtered_keyframe_min_motion_m >= 0.0) || !(filtered_keyframe_min_rotation_deg >= 0.0)) {
+    throw InputError(
+        "tracking: filtered_keyframe_min_motion_m and filtered_keyframe_min_rotation_deg must be "
+        ">= 0");
   }
   if (!(motion_prior_sigma_m >= 0.0) ||
       !(motion_prior_velocity_gain > 0.0 && motion_prior_velocity_gain <= 1.0)) {
