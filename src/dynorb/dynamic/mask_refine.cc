@@ -65,9 +65,12 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
                         cv::Rect(0, 0, mask->cols, mask->rows);
   RefinedMask result;
   if (rect.empty()) return result;
-  cv::Mat local(rect.size(), CV_8U, cv::Scalar(255));
+  // No depth evidence (or the object is not where it was predicted): the whole box.
+  const auto whole_box = [&] {
+    FillDilated(rect, cv::Mat(rect.size(), CV_8U, cv::Scalar(255)), options.dilation_px, mask);
+  };
   if (!options.enabled || depth_m.empty()) {
-    FillDilated(rect, local, options.dilation_px, mask);
+    whole_box();
     return result;
   }
   CV_Assert(depth_m.type() == CV_32F && depth_m.size() == mask->size());
@@ -94,7 +97,7 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   all.resize(num_all);
   central.resize(num_central);
   if (all.size() < options.min_valid_fraction * rect.area() || all.empty()) {
-    FillDilated(rect, local, options.dilation_px, mask);
+    whole_box();
     return result;
   }
   float reference = 0.f;
@@ -105,7 +108,7 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
       if (std::abs(v - depth_hint_m) < band) near.push_back(v);
     }
     if (near.empty()) {  // The object is not where it was predicted: keep the whole box.
-      FillDilated(rect, local, options.dilation_px, mask);
+      whole_box();
       return result;
     }
     reference = ModeDepth(near);
@@ -121,7 +124,7 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   if (!cluster.empty()) reference = Median(&cluster);
   const float band = static_cast<float>(options.band_m + options.band_per_m * reference);
   // local = (depth > 0) & (|depth - reference| < band), as 255 / 0.
-  cv::Mat near_reference, valid;
+  cv::Mat local, near_reference, valid;
   cv::absdiff(depth, cv::Scalar(reference), near_reference);
   cv::compare(near_reference, band, local, cv::CMP_LT);
   cv::compare(depth, 0.0, valid, cv::CMP_GT);
