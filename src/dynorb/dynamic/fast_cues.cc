@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/geometry/two_view.h"
 
 namespace dynorb {
@@ -48,7 +49,7 @@ std::vector<CueVote> DirectionCue(const std::vector<cv::Point2f>& p1, const std:
     cell_of(p2[r], &cx, &cy);
     grid[cy * cols + cx].push_back(r);
   }
-  const double cos_max = std::cos(max_angle_deg * M_PI / 180.0);
+  const double cos_max = std::cos(DegToRad(max_angle_deg));
   for (size_t i = 0; i < n; ++i) {
     if (!valid[i]) continue;
     const cv::Point2f f = p2[i] - p1[i];

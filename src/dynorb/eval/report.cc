@@ -5,10 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "dynorb/core/angles.h"
+
 namespace dynorb {
 namespace {
-
-constexpr double kDegPerRad = 57.295779513082320876798;
 
 template <typename... Args>
 std::string Format(const char* fmt, Args... args) {

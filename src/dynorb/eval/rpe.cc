@@ -5,14 +5,13 @@
 #include <cstdio>
 #include <string>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 #include "dynorb/eval/association.h"
 #include "dynorb/eval/text_format.h"
 
 namespace dynorb {
 namespace {
-
-constexpr double kDegPerRad = 57.295779513082320876798;
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0.0;

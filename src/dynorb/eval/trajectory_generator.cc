@@ -5,12 +5,12 @@
 #include <random>
 #include <string>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 
 namespace dynorb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kStartStamp_s = 1.3e9;
 
 // Platform-independent random numbers (std::*_distribution is implementation-defined).

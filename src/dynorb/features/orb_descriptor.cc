@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/features/brief_pattern.h"
 #include "dynorb/features/image_pyramid.h"
 
@@ -59,7 +60,7 @@ void ComputeSteeredTests(const cv::Mat& blurred, cv::Point center, float angle_d
   assert(blurred.type() == CV_8UC1);
   assert(center.x > kBriefMaxRadius && center.x < blurred.cols - kBriefMaxRadius - 1);
   assert(center.y > kBriefMaxRadius && center.y < blurred.rows - kBriefMaxRadius - 1);
-  const double angle_rad = angle_deg * (CV_PI / 180.0);
+  const double angle_rad = angle_deg * kRadPerDeg;
   const float a = static_cast<float>(std::cos(angle_rad));
   const float b = static_cast<float>(std::sin(angle_rad));
   const uint8_t* c = blurred.ptr<uint8_t>(center.y) + center.x;

@@ -3,15 +3,16 @@
 #include <cmath>
 #include <limits>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/features/orb_matcher.h"
 #include "dynorb/geometry/two_view.h"
-#include "dynorb/optimization/reprojection_cost.h"
 #include "dynorb/map/match_rules.h"
+#include "dynorb/optimization/reprojection_cost.h"
 
 namespace dynorb {
 namespace {
 
-const double kCosMinDltParallaxWithDepth = std::cos(5.0 * M_PI / 180.0);
+const double kCosMinDltParallaxWithDepth = std::cos(DegToRad(5.0));
 
 struct Candidate {
   int index1 = -1;

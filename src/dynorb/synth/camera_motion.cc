@@ -5,14 +5,12 @@
 #include <cmath>
 #include <random>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 #include "dynorb/io/text_lines.h"
 
 namespace dynorb::synth {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-double Deg(double d) { return d * kPi / 180.0; }
 
 }  // namespace
 
@@ -127,15 +125,15 @@ Rigid3d CameraPath::WorldFromCam(double t) const {
     case CameraMotion::kRpy: {
       offset = 0.05 * Eigen::Vector3d(n[0](t), n[1](t), n[2](t));
       const double amp = preset_.sitting ? 0.8 : 1.0;
-      yaw = amp * Deg(20.0) * std::sin(w * t / 8.0);
-      pitch = amp * Deg(12.0) * std::sin(w * t / 6.0 + 1.0);
-      roll = amp * Deg(16.0) * std::sin(w * t / 5.0 + 2.0);
+      yaw = amp * DegToRad(20.0) * std::sin(w * t / 8.0);
+      pitch = amp * DegToRad(12.0) * std::sin(w * t / 6.0 + 1.0);
+      roll = amp * DegToRad(16.0) * std::sin(w * t / 5.0 + 2.0);
       break;
     }
     case CameraMotion::kHalfsphere: {
       // On a sphere of ~1 m diameter around a point 0.5 m in front of the anchor.
-      const double azimuth = Deg(70.0) * std::sin(w * t / 14.0);
-      const double elevation = Deg(35.0) * std::sin(w * t / 9.0 + 0.5);
+      const double azimuth = DegToRad(70.0) * std::sin(w * t / 14.0);
+      const double elevation = DegToRad(35.0) * std::sin(w * t / 9.0 + 0.5);
       const Eigen::Vector3d dir(std::sin(azimuth) * std::cos(elevation),
                                 -std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
       offset = Eigen::Vector3d(0.0, 0.5, 0.0) + 0.5 * dir +
@@ -146,9 +144,9 @@ Rigid3d CameraPath::WorldFromCam(double t) const {
   // Hand tremor: millimetres and a few tenths of a degree.
   const double tremor = preset_.motion == CameraMotion::kStatic ? 0.0015 : 0.003;
   offset += tremor * Eigen::Vector3d(n[3](t), n[4](t), n[5](t));
-  yaw += Deg(0.3) * n[6](t);
-  pitch += Deg(0.3) * n[7](t);
-  roll += Deg(0.2) * n[8](t);
+  yaw += DegToRad(0.3) * n[6](t);
+  pitch += DegToRad(0.3) * n[7](t);
+  roll += DegToRad(0.2) * n[8](t);
   const Rigid3d look = LookAt(anchor_ + offset, target);
   // Orientation offsets in the camera frame: yaw about y (down), pitch about x, roll about z.
   const Eigen::Quaterniond turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *

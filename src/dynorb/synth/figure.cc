@@ -3,12 +3,11 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/synth/procedural.h"
 
 namespace dynorb::synth {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A limb: a tapered quadrilateral from `from` along angle `angle` (0 = straight down).
 std::vector<cv::Point> Limb(cv::Point2d from, double length, double angle, double w_top,

@@ -6,10 +6,10 @@
 #include <limits>
 #include <random>
 
+#include "dynorb/core/angles.h"
+
 namespace dynorb::synth {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double Smooth(double f) { return f * f * (3.0 - 2.0 * f); }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 #include "dynorb/core/timer.h"
 #include "dynorb/tracking/local_map.h"
@@ -290,7 +291,7 @@ bool Tracker::MovedFromReference(const Frame& frame,
   if (!reference_cam_from_world) return true;
   const Rigid3d reference_from_cam = *reference_cam_from_world * frame.cam_from_world.Inverse();
   return (min_m > 0.0 && reference_from_cam.translation.norm() >= min_m) ||
-         (min_deg > 0.0 && RotationAngleRad(reference_from_cam.rotation) * 180.0 / M_PI >= min_deg);
+         (min_deg > 0.0 && RadToDeg(RotationAngleRad(reference_from_cam.rotation)) >= min_deg);
 }
 
 bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
