@@ -251,11 +251,11 @@ TEST_F(FastFilterSequence, DescriptorCorrespondencesWork) {
   const Result r = Run(options);
   std::printf("descriptors: tp %lld fp %lld fn %lld precision %.3f recall %.3f\n", r.tp, r.fp, r.fn, r.precision(),
               r.recall());
-  // Regression floor (measured recall 0.27 on this 24-frame clip; its precision, 0.08, is no better
-  // than removing keypoints at random here — matched keypoint positions are only as precise as
-  // their pyramid level; over 300 frames it does better, docs/fast_mode.md). The path runs and is
-  // deterministic.
-  EXPECT_GE(r.recall(), 0.2);
+  // Regression floor (measured recall 0.16 on this 24-frame clip with a new region needing 3
+  // seeds, 0.27 with 2 before session 33; its precision, 0.08-0.14, is no better than removing
+  // keypoints at random here — matched keypoint positions are only as precise as their pyramid
+  // level; over 300 frames it does better, docs/fast_mode.md). The path runs and is deterministic.
+  EXPECT_GE(r.recall(), 0.12);
   const Result again = Run(options);
   EXPECT_EQ(r.keep, again.keep);
 }

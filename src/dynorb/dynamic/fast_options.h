@@ -88,7 +88,8 @@ struct FastOptions {
   double region_edge_abs_m = 0.04;    // neighbour depth step allowed: abs + rel * z
   double region_edge_rel = 0.03;
   double region_band_m = 0.3;         // max depth distance from the seed's depth
-  int region_min_seeds = 2;           // seeds needed (1 when supported by the suspect map)
+  int region_min_seeds = 3;           // seeds needed (1 when supported by the suspect map; 2
+                                      // before session 33)
   double region_max_static_ratio = 0.4;   // max static/(static+moving) tracked points in a region
   double region_min_coherence = 0.6;  // seeds of a region must move alike (|mean m| / mean |m|)
   double region_max_area = 0.8;       // max region area as a fraction of the image

@@ -1,0 +1,54 @@
+// The run modes' YAML sections: each mode's defaults as written to effective_config.yaml, and a
+// configuration key overriding them.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dynorb/core/error.h"
+#include "run_modes.h"
+
+namespace dynorb {
+namespace {
+
+// The value text of `key` in the YAML section `section` of ToYaml() ("" when absent).
+// Section lines are "name:" or "name:  # help".
+std::string ValueIn(const std::string& text, const std::string& section, const std::string& key) {
+  const std::string yaml = "\n" + text;
+  size_t begin = yaml.find("\n" + section + ":\n");
+  if (begin == std::string::npos) begin = yaml.find("\n" + section + ":  #");
+  if (begin == std::string::npos) return "";
+  const size_t end = yaml.find("\n\n", begin + 1);
+  const size_t at = yaml.find("\n  " + key + ": ", begin);
+  if (at == std::string::npos || (end != std::string::npos && at > end)) return "";
+  const size_t value = at + key.size() + 5;
+  return yaml.substr(value, yaml.find_first_of(" \n", value) - value);
+}
+
+std::string EffectiveYaml(const std::string& mode, const std::string& config_text) {
+  ConfigSchema schema;
+  std::unique_ptr<RunModeFactory> factory = MakeRunModeFactory(mode);
+  EXPECT_NE(factory, nullptr);
+  factory->BindConfig(&schema);
+  if (!config_text.empty()) schema.LoadString(config_text, "test.yaml");
+  return schema.ToYaml();
+}
+
+TEST(RunModes, FusedNeedsMoreSeedsForANewFastRegionThanFastAndTheKeyOverridesIt) {
+  EXPECT_EQ(ValueIn(EffectiveYaml("fast", ""), "fast", "region_min_seeds"), "3");
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "region_min_seeds"), "4");
+  EXPECT_EQ(
+      ValueIn(EffectiveYaml("fused", "fast:\n  region_min_seeds: 2\n"), "fast", "region_min_seeds"),
+      "2");
+  // The rest of the FAST section is FAST's defaults in both modes.
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "lk_max_points"),
+            ValueIn(EffectiveYaml("fast", ""), "fast", "lk_max_points"));
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fused", "fast_max_overlap"), "0.5");
+}
+
+TEST(RunModes, UnknownModeAndBadSectionValueAreInputErrors) {
+  EXPECT_THROW(MakeRunModeFactory("no_such_mode"), InputError);
+  EXPECT_THROW(EffectiveYaml("fused", "fast:\n  region_min_seeds: 0\n"), InputError);
+}
+
+}  // namespace
+}  // namespace dynorb
