@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/eval/test_util.h"
 
 namespace dynorb {
@@ -11,8 +12,6 @@ namespace {
 
 using testing_util::Transformed;
 using testing_util::Wiggle;
-
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
 
 TEST(Rpe, ZeroForRigidlyTransformedTrajectory) {
   const Trajectory gt = Wiggle(300, 30.0);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/optimization/test_scene.h"
 
 namespace dynorb {
@@ -70,7 +71,7 @@ TEST(BundleAdjuster, ReducesPerturbationOfPosesAndPoints) {
       EXPECT_EQ(r.cam_from_world[k].translation, truth[k].translation);
     } else {
       EXPECT_LT(err.translation.norm(), 0.003) << "keyframe " << k;
-      EXPECT_LT(RotationAngleRad(err.rotation), 0.1 * M_PI / 180.0) << "keyframe " << k;
+      EXPECT_LT(RotationAngleRad(err.rotation), DegToRad(0.1)) << "keyframe " << k;
     }
   }
   // Points constrained by depth (an RGB-D observation) or by >= 3 views must converge; a point

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 #include "dynorb/optimization/pose_block.h"
 #include "dynorb/optimization/test_scene.h"
@@ -48,11 +49,11 @@ Scenario MakeScenario(int count, double outlier_fraction, bool stereo, std::mt19
 void ExpectRecovers(bool stereo) {
   std::mt19937_64 rng(stereo ? 21 : 22);
   const Scenario s = MakeScenario(300, 0.2, stereo, rng);
-  const Rigid3d initial = testing::Perturb(s.truth, 3.0 * M_PI / 180.0, 0.05, rng);
+  const Rigid3d initial = testing::Perturb(s.truth, DegToRad(3.0), 0.05, rng);
   const PoseOptimizerResult r = OptimizePose(kCamera, kBf, s.observations, initial);
   const Rigid3d error = r.cam_from_world * s.truth.Inverse();
   EXPECT_LT(error.translation.norm(), 0.005);
-  EXPECT_LT(RotationAngleRad(error.rotation) * 180.0 / M_PI, 0.1);
+  EXPECT_LT(RadToDeg(RotationAngleRad(error.rotation)), 0.1);
   int outliers_found = 0, outliers = 0, inliers_kept = 0, inliers = 0;
   for (size_t i = 0; i < s.observations.size(); ++i) {
     if (s.is_outlier[i]) {
@@ -168,11 +169,11 @@ TEST(PoseOptimizer, LeastSquaresRefinementRecoversAKnownPose) {
     for (const Eigen::Vector3d& x : points) {
       pixels.push_back(testing::Observe(kCamera, 0.0, truth, x, false, sigma_px, rng).uv);
     }
-    const Rigid3d start = testing::Perturb(truth, 3.0 * M_PI / 180.0, 0.1, rng);
+    const Rigid3d start = testing::Perturb(truth, DegToRad(3.0), 0.1, rng);
     const std::optional<Rigid3d> fit = RefinePoseLeastSquares(kCamera, points, pixels, start, 5);
     ASSERT_TRUE(fit.has_value());
     const double tolerance_m = sigma_px == 0.0 ? 1e-9 : 1e-3;
-    const double tolerance_rad = sigma_px == 0.0 ? 1e-9 : 0.05 * M_PI / 180.0;
+    const double tolerance_rad = sigma_px == 0.0 ? 1e-9 : DegToRad(0.05);
     EXPECT_LT((fit->translation - truth.translation).norm(), tolerance_m) << "sigma " << sigma_px;
     EXPECT_LT(fit->rotation.angularDistance(truth.rotation), tolerance_rad) << "sigma " << sigma_px;
     if (sigma_px > 0.0) continue;
@@ -238,7 +239,7 @@ TEST(PoseOptimizer, CentrePriorPinsWhatFarPointsLeaveLoose) {
     obs.keypoint = testing::Observe(kCamera, kBf, truth, obs.point_in_world, false, 1.0, rng);
     observations.push_back(obs);
   }
-  const Rigid3d initial = testing::Perturb(truth, 1.0 * M_PI / 180.0, 0.3, rng);
+  const Rigid3d initial = testing::Perturb(truth, DegToRad(1.0), 0.3, rng);
   const PoseOptimizerResult free = OptimizePose(kCamera, kBf, observations, initial);
   CentrePrior prior;
   prior.centre_in_world = CentreOf(truth);
@@ -248,8 +249,7 @@ TEST(PoseOptimizer, CentrePriorPinsWhatFarPointsLeaveLoose) {
   const double pinned_error = (CentreOf(pinned.cam_from_world) - CentreOf(truth)).norm();
   EXPECT_GT(free_error, 0.02);
   EXPECT_LT(pinned_error, 0.003);
-  EXPECT_LT(RotationAngleRad((pinned.cam_from_world * truth.Inverse()).rotation) * 180.0 / M_PI,
-            0.05);
+  EXPECT_LT(RadToDeg(RotationAngleRad((pinned.cam_from_world * truth.Inverse()).rotation)), 0.05);
   EXPECT_GE(pinned.num_inliers, 70);
 }
 
@@ -258,7 +258,7 @@ TEST(PoseOptimizer, CentrePriorPinsWhatFarPointsLeaveLoose) {
 TEST(PoseOptimizer, CentrePriorChangesLittleWhereThePointsPinThePose) {
   std::mt19937_64 rng(33);
   const Scenario s = MakeScenario(300, 0.0, true, rng);
-  const Rigid3d initial = testing::Perturb(s.truth, 1.0 * M_PI / 180.0, 0.05, rng);
+  const Rigid3d initial = testing::Perturb(s.truth, DegToRad(1.0), 0.05, rng);
   const PoseOptimizerResult free = OptimizePose(kCamera, kBf, s.observations, initial);
   CentrePrior prior;
   prior.centre_in_world = CentreOf(s.truth) + Eigen::Vector3d(0.1, 0.0, 0.0);
@@ -389,7 +389,7 @@ TEST(PoseOptimizer, DisparityWeightingUsesThePreciseDepth) {
       obs.keypoint.disparity_information = 1.0 / (0.15 * 0.15);
       disparity.push_back(obs);
     }
-    const Rigid3d initial = testing::Perturb(truth, 1.0 * M_PI / 180.0, 0.03, rng);
+    const Rigid3d initial = testing::Perturb(truth, DegToRad(1.0), 0.03, rng);
     const Rigid3d e_orb = OptimizePose(kCamera, kBf, orb, initial).cam_from_world * truth.Inverse();
     const Rigid3d e_disparity =
         OptimizePose(kCamera, kBf, disparity, initial).cam_from_world * truth.Inverse();
@@ -424,7 +424,7 @@ TEST(PoseOptimizer, DepthFallbackKeepsThePixelOfAWrongDepth) {
     k.u_right = k.uv.x() - (wrong_depth[i] ? kBf / (0.6 * z) : kBf / z + 0.07 * unit(rng));
     k.disparity_information = 1.0 / (0.15 * 0.15);
   }
-  const Rigid3d initial = testing::Perturb(s.truth, 1.0 * M_PI / 180.0, 0.03, rng);
+  const Rigid3d initial = testing::Perturb(s.truth, DegToRad(1.0), 0.03, rng);
   for (const bool fallback : {true, false}) {
     SCOPED_TRACE(fallback ? "fallback" : "ORB-SLAM2");
     PoseOptimizerOptions options;
@@ -456,7 +456,7 @@ TEST(PoseOptimizer, DepthFallbackKeepsThePixelOfAWrongDepth) {
     EXPECT_LE(good_dropped, 0.1 * good);  // A right depth seldom fails while its pixel fits.
     const Rigid3d error = r.cam_from_world * s.truth.Inverse();
     EXPECT_LT(error.translation.norm(), 0.005);
-    EXPECT_LT(RotationAngleRad(error.rotation) * 180.0 / M_PI, 0.1);
+    EXPECT_LT(RadToDeg(RotationAngleRad(error.rotation)), 0.1);
   }
 }
 

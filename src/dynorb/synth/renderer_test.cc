@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/synth/figure.h"
 #include "dynorb/synth/png_writer.h"
@@ -189,7 +190,7 @@ TEST(Renderer, ObliqueSpriteShowsTheTexelWhereTheRayMeetsItsRaisedSurface) {
   // billboard plane's own texel along a ray is up to ~45 texels away from the raised surface's.
   const PinholeCamera cam = TumFreiburg3Camera();
   const Texture sprite = CoordinateSprite([](int, int) { return 0.25; });
-  const double angle = 35.0 * M_PI / 180.0;
+  const double angle = DegToRad(35.0);
   const Eigen::Vector3d across(std::cos(angle), 0, std::sin(angle));  // the sprite's u axis
   DrawQuad q = Rect(Eigen::Vector3d(-0.3 * std::cos(angle), -0.3, 1.3 - 0.3 * std::sin(angle)), 0.6 * across,
                     {0, 0.6, 0}, &sprite, 3);
@@ -228,7 +229,7 @@ TEST(Renderer, SpriteStepShowsTheNearestSurfaceAlongEachRay) {
   // search started there, would show), and rays that clear it go on to the upper half.
   const PinholeCamera cam = TumFreiburg3Camera();
   const Texture sprite = CoordinateSprite([](int, int r) { return r >= 128 ? 0.25 : 0.05; });
-  const double angle = 35.0 * M_PI / 180.0;
+  const double angle = DegToRad(35.0);
   const Eigen::Vector3d down(0, std::cos(angle), -std::sin(angle));  // the sprite's v axis
   const DrawQuad q = Rect(Eigen::Vector3d(-0.3, -0.3 * std::cos(angle), 1.3 + 0.3 * std::sin(angle)), {0.6, 0, 0},
                           0.6 * down, &sprite, 3);

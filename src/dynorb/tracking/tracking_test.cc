@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
 #include "dynorb/tracking/centre_motion_model.h"
 #include "dynorb/tracking/projection_search.h"
@@ -16,7 +17,7 @@ double TranslationError(const Rigid3d& estimate, const Rigid3d& truth) {
   return (estimate.Inverse().translation - truth.Inverse().translation).norm();
 }
 double RotationErrorDeg(const Rigid3d& estimate, const Rigid3d& truth) {
-  return RotationAngleRad(estimate.rotation * truth.rotation.conjugate()) * 180.0 / M_PI;
+  return RadToDeg(RotationAngleRad(estimate.rotation * truth.rotation.conjugate()));
 }
 
 TEST(OrientationConsistent, RejectsMinorityRotation) {
@@ -281,9 +282,9 @@ TEST_F(TrackerTest, FilteredKeyframeFractionAsksForAKeyframeWhenTheFilterKeepsCo
     Tracker tracker(room.sensor(), options, &map);
     std::vector<FrameId> keyframes_at;
     for (FrameId id = 0; id < 45; ++id) {
-      const Rigid3d cam_from_world(Eigen::Quaterniond(Eigen::AngleAxisd(
-                                       step_deg * id * M_PI / 180.0, Eigen::Vector3d::UnitY())),
-                                   Eigen::Vector3d(step_m * id, 0.0, 1.0));
+      const Rigid3d cam_from_world(
+          Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(step_deg * id), Eigen::Vector3d::UnitY())),
+          Eigen::Vector3d(step_m * id, 0.0, 1.0));
       const auto view = room.Observe(cam_from_world, 1000 + id);
       Frame frame(id, id / 30.0,
                   id == 0
