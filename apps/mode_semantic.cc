@@ -24,11 +24,16 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
            "fastestdet | nanodet_m_320")
       .Add("score_threshold", &o.detector.score_threshold, "minimum detection confidence")
       .Add("nms_iou", &o.detector.nms_iou, "class-wise NMS IoU threshold")
+      .Add("input_width", &o.detector.input_width,
+           "detector input width (px, multiple of 32; 0: the model's; darknet models only)")
+      .Add("input_height", &o.detector.input_height,
+           "detector input height (px, multiple of 32; 0: the model's; darknet models only)")
       .Add("classes", &o.classes, "a-priori dynamic COCO classes")
       .Add("detect_every", &o.detect_every,
            "run the detector on every Nth frame, carry masks by flow between")
       .Add("detector_latency", &o.detector_latency,
-           "0: detect inline; L>0: detect on a worker, use the result L frames later (L < detect_every)")
+           "0: detect inline; L>0: detect on a worker, use the result L frames later (L < "
+           "detect_every)")
       .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
       .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
       .Add("refine_with_depth", &o.refine.enabled,

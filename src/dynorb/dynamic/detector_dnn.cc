@@ -154,6 +154,22 @@ void DetectorOptions::Validate() const {
   if (!(nms_iou > 0.f && nms_iou <= 1.f)) {
     throw InputError("semantic.nms_iou must be in (0, 1], got " + std::to_string(nms_iou));
   }
+  if (input_width == 0 && input_height == 0) return;
+  auto valid = [](int v) { return v >= 64 && v <= 1280 && v % 32 == 0; };
+  if (!valid(input_width) || !valid(input_height)) {
+    throw InputError(
+        "semantic.input_width and input_height must both be 0 (the model's size) or multiples of "
+        "32 "
+        "in [64, 1280], got " +
+        std::to_string(input_width) + " x " + std::to_string(input_height));
+  }
+  if (FindModelSpec(model).family != ModelFamily::kDarknetYolo) {
+    throw InputError(
+        "semantic.input_width / input_height: only the darknet models (yolo_fastest_1.1*) take "
+        "another "
+        "input size; " +
+        model + "'s ONNX graph has a fixed one");
+  }
 }
 
 size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes) {
@@ -232,6 +248,7 @@ void DnnDetector::CheckFiles(const std::string& folder) {
 DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
   options_.Validate();
   spec_ = FindModelSpec(options_.model);
+  if (options_.input_width > 0) spec_.input = cv::Size(options_.input_width, options_.input_height);
   const std::string folder = (fs::path(options_.models_dir) / spec_.name).string();
   CheckFiles(folder);
   const std::string model_path = (fs::path(folder) / spec_.model_file).string();

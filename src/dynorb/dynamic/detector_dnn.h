@@ -46,6 +46,9 @@ struct DetectorOptions {
   std::string models_dir = "models";       // folder holding <model>/<files>
   double score_threshold = 0.3;            // minimum confidence of a detection
   double nms_iou = 0.45;                   // class-wise NMS overlap threshold
+  // Network input size in pixels; 0 x 0 = the model's own (SOURCE.txt). Darknet models only
+  // (fully convolutional): multiples of 32, e.g. 320 x 256 for 4:3 images instead of 320 x 320.
+  int input_width = 0, input_height = 0;
   void Validate() const;
 };
 
