@@ -35,6 +35,8 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
            "0: detect inline; L>0: detect on a worker, use the result L frames later (L < "
            "detect_every)")
       .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
+      .Add("carry_grid", &o.carry_grid,
+           "carrying tracks up to carry_grid^2 points per object (2..16)")
       .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
       .Add("refine_with_depth", &o.refine.enabled,
            "box -> foreground depth cluster (false: whole box)")

@@ -157,18 +157,14 @@ void DetectorOptions::Validate() const {
   if (input_width == 0 && input_height == 0) return;
   auto valid = [](int v) { return v >= 64 && v <= 1280 && v % 32 == 0; };
   if (!valid(input_width) || !valid(input_height)) {
-    throw InputError(
-        "semantic.input_width and input_height must both be 0 (the model's size) or multiples of "
-        "32 "
-        "in [64, 1280], got " +
-        std::to_string(input_width) + " x " + std::to_string(input_height));
+    throw InputError("semantic.input_width and input_height must both be 0 (the model's size) or " +
+                     std::string("multiples of 32 in [64, 1280], got ") +
+                     std::to_string(input_width) + " x " + std::to_string(input_height));
   }
   if (FindModelSpec(model).family != ModelFamily::kDarknetYolo) {
-    throw InputError(
-        "semantic.input_width / input_height: only the darknet models (yolo_fastest_1.1*) take "
-        "another "
-        "input size; " +
-        model + "'s ONNX graph has a fixed one");
+    throw InputError("semantic.input_width / input_height: only the darknet models " +
+                     std::string("(yolo_fastest_1.1*) take another input size; ") + model +
+                     "'s ONNX graph has a fixed one");
   }
 }
 

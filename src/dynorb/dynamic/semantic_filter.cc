@@ -53,6 +53,7 @@ void SemanticOptions::Validate() const {
     throw InputError("semantic.detector_latency must be >= 0 and < detect_every (one detection in flight)");
   }
   if (max_carried_frames < 0) throw InputError("semantic.max_carried_frames must be >= 0");
+  if (carry_grid < 2 || carry_grid > 16) throw InputError("semantic.carry_grid must be in [2, 16]");
   if (classes.empty()) throw InputError("semantic.classes is empty (no a-priori dynamic class)");
   ResolveDynamicClasses(classes, CocoClassNames());
 }
@@ -87,8 +88,8 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
   DynamicObjects carried;
   carried.mask = cv::Mat::zeros(gray.size(), CV_8U);
   if (from_gray.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
-  // Up to 8x8 points inside each object's mask and box, all tracked in one LK call (one pyramid
-  // per image instead of one per object; LK tracks every point independently).
+  // Up to carry_grid x carry_grid points inside each object's mask and box, all tracked in one LK
+  // call (one pyramid per image instead of one per object; LK tracks every point independently).
   std::vector<cv::Point2f> points, moved;
   std::vector<size_t> first(from.objects.size() + 1, 0);
   std::vector<cv::Rect> boxes(from.objects.size());
@@ -98,9 +99,11 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
     const cv::Rect& box = boxes[o];
     if (box.empty()) continue;
     const size_t before = points.size();
-    for (int iy = 0; iy < 8; ++iy) {
-      for (int ix = 0; ix < 8; ++ix) {
-        const cv::Point p(box.x + (2 * ix + 1) * box.width / 16, box.y + (2 * iy + 1) * box.height / 16);
+    const int g = options_.carry_grid;
+    for (int iy = 0; iy < g; ++iy) {
+      for (int ix = 0; ix < g; ++ix) {
+        const cv::Point p(box.x + (2 * ix + 1) * box.width / (2 * g),
+                          box.y + (2 * iy + 1) * box.height / (2 * g));
         if (from.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
       }
     }

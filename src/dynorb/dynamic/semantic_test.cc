@@ -193,22 +193,31 @@ FilterOutput FilterSquareFrame(SemanticFilter* filter, int frame) {
 }
 
 TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
-  auto provider = std::make_unique<SquareProvider>();
-  provider->refine.dilation_px = 0;
-  SquareProvider* raw = provider.get();
-  SemanticOptions options;
-  options.detect_every = 4;
-  options.refine.dilation_px = 0;
-  SemanticFilter filter(std::move(provider), options);
-  for (int frame = 0; frame < 10; ++frame) {
-    const FilterOutput out = FilterSquareFrame(&filter, frame);
-    SCOPED_TRACE(frame);
-    EXPECT_EQ(filter.last_was_detection(), frame % 4 == 0);
-    EXPECT_FALSE(out.keep[0]);  // centre of the moving square, also between detections
-    EXPECT_TRUE(out.keep[1]);   // background left of it
-    EXPECT_FALSE(out.keep[2]);  // near its moving right edge
+  for (int grid : {8, 4, 2}) {  // points tracked per object when carrying: grid x grid
+    SCOPED_TRACE(grid);
+    auto provider = std::make_unique<SquareProvider>();
+    provider->refine.dilation_px = 0;
+    SquareProvider* raw = provider.get();
+    SemanticOptions options;
+    options.detect_every = 4;
+    options.carry_grid = grid;
+    options.refine.dilation_px = 0;
+    SemanticFilter filter(std::move(provider), options);
+    for (int frame = 0; frame < 10; ++frame) {
+      const FilterOutput out = FilterSquareFrame(&filter, frame);
+      SCOPED_TRACE(frame);
+      EXPECT_EQ(filter.last_was_detection(), frame % 4 == 0);
+      EXPECT_FALSE(out.keep[0]);  // centre of the moving square, also between detections
+      EXPECT_TRUE(out.keep[1]);   // background left of it
+      EXPECT_FALSE(out.keep[2]);  // near its moving right edge
+    }
+    EXPECT_EQ(raw->calls, (std::vector<FrameId>{0, 4, 8}));
   }
-  EXPECT_EQ(raw->calls, (std::vector<FrameId>{0, 4, 8}));
+  SemanticOptions bad;
+  bad.carry_grid = 1;
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.carry_grid = 17;
+  EXPECT_THROW(bad.Validate(), InputError);
 }
 
 // Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
