@@ -39,7 +39,8 @@ struct SemanticOptions {
   int detector_latency = 0;     // 0: detect inline; L > 0: detect on a worker thread, use the
                                 // result L frames later (carried by flow), L < detect_every
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
-  int carry_grid = 8;           // carrying tracks up to carry_grid^2 points per object (LK)
+  int carry_grid = 4;           // carrying tracks up to carry_grid^2 points per object (LK;
+                                // session 34: 4 instead of 8, 0.2 ms less, same accuracy)
   DepthRefineOptions refine;    // box -> mask with depth
   void Validate() const;
 };
