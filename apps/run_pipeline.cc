@@ -87,8 +87,8 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "frames after a keyframe before 'need close points' may ask again")
       .Add("filtered_keyframe_fraction", &t->filtered_keyframe_fraction,
            "once max_frames_between_keyframes have passed, a frame whose filter removed at least "
-           "this fraction of the keypoints needs close points whatever their tracked count (0: "
-           "off)")
+           "this fraction of "
+           "the keypoints needs close points whatever their tracked count (0: off)")
       .Add("filtered_keyframe_min_motion_m", &t->filtered_keyframe_min_motion_m,
            "... once the camera is at least this far from its reference keyframe (m) ...")
       .Add("filtered_keyframe_min_rotation_deg", &t->filtered_keyframe_min_rotation_deg,
