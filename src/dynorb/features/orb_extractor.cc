@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstdio>
 #include <cstdlib>
-#include <iterator>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <set>
 #include <string>
 
 #include "dynorb/core/error.h"
@@ -142,44 +141,19 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
   return DetectOnPyramid(std::make_shared<ImagePyramid>(image, levels_), cv::Mat(), nullptr);
 }
 
-KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat& exclude,
-                                          double weak_fill) const {
+KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const {
   if (base.pyramid == nullptr)
     throw InputError("OrbExtractor::DetectExcluding: the base set has no pyramid");
   const cv::Size full = base.pyramid->Level(0).size();
   if (exclude.type() != CV_8UC1 || exclude.size() != full) {
     throw InputError("OrbExtractor::DetectExcluding: the mask must be CV_8UC1 of the image size");
   }
-  if (!(weak_fill >= 0.0))
-    throw InputError("OrbExtractor::DetectExcluding: weak_fill must be >= 0");
-  return DetectOnPyramid(base.pyramid, exclude, base.candidates, weak_fill);
-}
-
-void OrbExtractor::AddWeakCorners(const ImagePyramid& pyramid, int l, const cv::Mat& exclude,
-                                  std::vector<cv::KeyPoint>* allowed) const {
-  const cv::Mat& level = pyramid.Level(l);
-  const int w = level.cols - 2 * kDetectBorder, h = level.rows - 2 * kDetectBorder;
-  if (w <= 2 * kFastRing || h <= 2 * kFastRing) return;
-  std::vector<cv::KeyPoint> weak;
-  cv::FAST(level(cv::Rect(kDetectBorder, kDetectBorder, w, h)), weak, options_.min_th_fast, true);
-  std::set<std::pair<int, int>> have;
-  for (const cv::KeyPoint& kp : *allowed)
-    have.insert({static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y)});
-  for (cv::KeyPoint& kp : weak) {
-    kp.pt.x += kDetectBorder;
-    kp.pt.y += kDetectBorder;
-    if (have.count({static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y)}) != 0) continue;
-    const cv::Point2f f = pyramid.LevelToFull(l, kp.pt);
-    const int x = std::clamp(static_cast<int>(f.x + 0.5f), 0, exclude.cols - 1);
-    const int y = std::clamp(static_cast<int>(f.y + 0.5f), 0, exclude.rows - 1);
-    if (exclude.at<uint8_t>(y, x) == 0) allowed->push_back(kp);
-  }
+  return DetectOnPyramid(base.pyramid, exclude, base.candidates);
 }
 
 KeypointSet OrbExtractor::DetectOnPyramid(
     std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
-    std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates,
-    double weak_fill) const {
+    std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const {
   KeypointSet set;
   // Levels are independent: detect them on OpenCV's worker threads, then concatenate in level
   // order, so the result is the same whatever the thread count.
@@ -211,10 +185,6 @@ KeypointSet OrbExtractor::DetectOnPyramid(
                        const int y = std::clamp(static_cast<int>(f.y + 0.5f), 0, exclude.rows - 1);
                        return exclude.at<uint8_t>(y, x) == 0;
                      });
-      }
-      if (!exclude.empty() && weak_fill > 0.0 &&
-          static_cast<double>(allowed.size()) < weak_fill * features_per_level_[l]) {
-        AddWeakCorners(*pyramid, l, exclude, &allowed);
       }
       per_level[l] = DistributeOnLevel(level, std::move(allowed), features_per_level_[l]);
       const float size = static_cast<float>(kPatchSize * levels_.scale[l]);

@@ -65,12 +65,7 @@ class OrbExtractor {
   // Detects again on `base`'s pyramid, ignoring corners where `exclude` (CV_8UC1, full image
   // size, nonzero = excluded) is set, so each level's whole budget is spread over the rest of the
   // image. Used after a dynamic filter removed keypoints (throws InputError on a bad mask).
-  // The first detection kept only corners above ini_th_fast in cells that have them; weak_fill
-  // > 0: on a level where fewer than weak_fill x its budget of those lie outside the mask, FAST
-  // at min_th_fast over the level adds the weaker corners of the unmasked part, so a mask that
-  // hides much of the view does not also cut the keypoint count (0: the earlier corners only).
-  KeypointSet DetectExcluding(const KeypointSet& base, const cv::Mat& exclude,
-                              double weak_fill = 0.0) const;
+  KeypointSet DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const;
 
   // Descriptors of set.keypoints[indices[i]] in row i (indices must be valid; may repeat).
   cv::Mat Describe(const KeypointSet& set, const std::vector<int>& indices) const;
@@ -96,15 +91,10 @@ class OrbExtractor {
   // The level's budget of `corners` spread by the quadtree.
   std::vector<cv::KeyPoint> DistributeOnLevel(const cv::Mat& level,
                                               std::vector<cv::KeyPoint> corners, int budget) const;
-  // Adds to `allowed` the corners at min_th_fast of the level outside `exclude` that it lacks.
-  void AddWeakCorners(const ImagePyramid& pyramid, int level, const cv::Mat& exclude,
-                      std::vector<cv::KeyPoint>* allowed) const;
-  // `candidates`: FAST corners per level from an earlier detection (nullptr: run FAST);
-  // weak_fill: see DetectExcluding.
+  // `candidates`: FAST corners per level from an earlier detection (nullptr: run FAST).
   KeypointSet DetectOnPyramid(
       std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
-      std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates,
-      double weak_fill = 0.0) const;
+      std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const;
 
   OrbOptions options_;
   ScaleLevels levels_;

@@ -226,39 +226,6 @@ TEST(OrbExtractor, DetectExcludingSpendsTheBudgetOutsideTheMask) {
   EXPECT_THROW(extractor.DetectExcluding(all, cv::Mat::zeros(10, 10, CV_8U)), InputError);
 }
 
-// A textured level whose cells each hold one strong corner among weak ones: the first detection
-// keeps the strong corners only (the weak threshold is a fallback for empty cells), so a refill
-// that masks most of the image finds few keypoints unless it also takes the weak corners there.
-TEST(OrbExtractor, DetectExcludingWithWeakFillUsesTheWeakCornersOfTheUnmaskedPart) {
-  cv::Mat image(kVga, CV_8UC1, cv::Scalar(100));
-  cv::RNG rng(3);
-  for (int y = 24; y < kVga.height - 24; y += 8) {
-    for (int x = 24; x < kVga.width - 24; x += 8) {
-      const bool strong = (x / 8) % 3 == 0 && (y / 8) % 3 == 0;   // one in every 30-px cell
-      const int contrast = strong ? 90 : 12 + rng.uniform(0, 4);  // FAST: > 20 vs 7..20
-      cv::rectangle(image, cv::Rect(x, y, 3, 3), cv::Scalar(100 + contrast), cv::FILLED);
-    }
-  }
-  const OrbExtractor extractor;
-  const KeypointSet all = extractor.Detect(image);
-  cv::Mat exclude = cv::Mat::zeros(kVga, CV_8U);  // people covering the left 75 %
-  const int boundary = kVga.width * 3 / 4;
-  exclude.colRange(0, boundary).setTo(255);
-  const KeypointSet plain = extractor.DetectExcluding(all, exclude);
-  const KeypointSet filled = extractor.DetectExcluding(all, exclude, 2.0);
-  for (const KeypointSet* set : {&plain, &filled}) {
-    for (const cv::KeyPoint& kp : set->keypoints) EXPECT_GE(kp.pt.x, boundary - 1.f);
-  }
-  EXPECT_GT(filled.size(), plain.size() * 6 / 5)
-      << all.size() << ": " << plain.size() << " -> " << filled.size();
-  EXPECT_LE(filled.size(), all.size() + 8);  // still the budget
-  // weak_fill 0 is the earlier refill, point for point.
-  const KeypointSet zero = extractor.DetectExcluding(all, exclude, 0.0);
-  ASSERT_EQ(zero.size(), plain.size());
-  for (int i = 0; i < plain.size(); ++i) EXPECT_EQ(zero.keypoints[i].pt, plain.keypoints[i].pt);
-  EXPECT_THROW(extractor.DetectExcluding(all, exclude, -1.0), InputError);
-}
-
 TEST(OrbExtractor, DeterministicAndIndependentOfTheCallersBuffer) {
   cv::Mat image = MakeSyntheticTexture(kVga, 5);
   const OrbFeatures a = OrbExtractor().DetectAndDescribe(image);

@@ -16,8 +16,6 @@ void SystemOptions::Validate() const {
     throw InputError("Camera.bf and ThDepth must be positive");
   if (mapper_queue_capacity < 1) throw InputError("mapper queue capacity must be >= 1");
   if (refill_disk_px < 0) throw InputError("refill_disk_px must be >= 0");
-  if (!(refill_weak_fill >= 0.0 && refill_weak_fill <= 100.0))
-    throw InputError("tracking.refill_weak_fill must be in [0, 100]");
   if (front_end_threads < 0 || front_end_threads > 2)
     throw InputError("front_end_threads must be 0 (auto), 1 or 2, got " +
                      std::to_string(front_end_threads));
@@ -257,7 +255,7 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
           cv::circle(exclude, set.keypoints[i].pt, options_.refill_disk_px, cv::Scalar(255),
                      cv::FILLED);
       }
-      refilled = extractor_.DetectExcluding(set, exclude, options_.refill_weak_fill);
+      refilled = extractor_.DetectExcluding(set, exclude);
       record.num_refilled = refilled.size();
       record.timing.refill_ms = watch.ElapsedMs();
     }

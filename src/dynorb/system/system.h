@@ -51,10 +51,6 @@ struct SystemOptions {
   // mask covers what they found (KeypointFilter::MaskCoversDetections: the semantic filter).
   bool refill_filtered = true;
   int refill_disk_px = 10;
-  // The refill also takes the weaker FAST corners (min_th_fast) of the unmasked part of a level
-  // when fewer than this many times its budget of the first detection's corners lie there
-  // (OrbExtractor::DetectExcluding; 0: only the first detection's corners).
-  double refill_weak_fill = 0.0;
   // Pipelined front ends (ProcessFrame with frames ahead) on 1 worker thread (detection, filter,
   // description of a frame one after the other) or 2: detection (grey image, ORB keypoints) on
   // one, the filter, refill and description on the other, each in frame order, so frame k+1 is
