@@ -37,6 +37,8 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
       .Add("carry_grid", &o.carry_grid,
            "carrying tracks up to carry_grid^2 points per object (2..16)")
+      .Add("carry_downscale", &o.carry_downscale,
+           "carrying tracks on images downscaled by 1 (full resolution) or 2")
       .Add("threads", &threads_, "OpenCV threads (0: OpenCV default)")
       .Add("refine_with_depth", &o.refine.enabled,
            "box -> foreground depth cluster (false: whole box)")

@@ -12,6 +12,8 @@
 namespace dynorb {
 namespace {
 
+constexpr int kCarryWindowRadius = 10;  // Half the 21 px LK window, in full-resolution pixels.
+
 std::string Canonical(const std::string& name) {
   static const std::map<std::string, std::string> aliases = {
       {"motorcycle", "motorbike"}, {"airplane", "aeroplane"}, {"couch", "sofa"}, {"tv", "tvmonitor"},
@@ -54,6 +56,8 @@ void SemanticOptions::Validate() const {
   }
   if (max_carried_frames < 0) throw InputError("semantic.max_carried_frames must be >= 0");
   if (carry_grid < 2 || carry_grid > 16) throw InputError("semantic.carry_grid must be in [2, 16]");
+  if (carry_downscale != 1 && carry_downscale != 2)
+    throw InputError("semantic.carry_downscale must be 1 or 2");
   if (classes.empty()) throw InputError("semantic.classes is empty (no a-priori dynamic class)");
   ResolveDynamicClasses(classes, CocoClassNames());
 }
@@ -83,11 +87,20 @@ SemanticFilter::SemanticFilter(std::unique_ptr<MaskProvider> provider, const Sem
   CV_Assert(provider_ != nullptr);
 }
 
-DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& from_gray, const cv::Mat& gray,
+cv::Mat SemanticFilter::Downscaled(const cv::Mat& gray) const {
+  if (options_.carry_downscale == 1) return gray.clone();
+  cv::Mat small;
+  cv::pyrDown(gray, small);
+  return small;
+}
+
+DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& from_small,
+                                     const cv::Mat& small, cv::Size full,
                                      const cv::Mat& depth_m) const {
+  const int scale = options_.carry_downscale;
   DynamicObjects carried;
-  carried.mask = cv::Mat::zeros(gray.size(), CV_8U);
-  if (from_gray.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
+  carried.mask = cv::Mat::zeros(full, CV_8U);
+  if (from_small.empty() || frames_since_detection_ > options_.max_carried_frames) return carried;
   // Up to carry_grid x carry_grid points inside each object's mask and box, all tracked in one LK
   // call (one pyramid per image instead of one per object; LK tracks every point independently).
   std::vector<cv::Point2f> points, moved;
@@ -95,25 +108,45 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
   std::vector<cv::Rect> boxes(from.objects.size());
   for (size_t o = 0; o < from.objects.size(); ++o) {
     first[o] = points.size();
-    boxes[o] = cv::Rect(from.objects[o].detection.box) & cv::Rect(0, 0, gray.cols, gray.rows);
+    boxes[o] = cv::Rect(from.objects[o].detection.box) & cv::Rect(0, 0, full.width, full.height);
     const cv::Rect& box = boxes[o];
     if (box.empty()) continue;
-    const size_t before = points.size();
+    // Points whose whole LK window (10 px around them at full resolution) lies in the mask: a
+    // window reaching into the background is pulled towards its motion. Too few of them (a thin
+    // or small object): every grid point in the mask.
+    const auto in_mask = [&](int x, int y) {
+      return from.mask.at<uint8_t>(std::clamp(y, 0, full.height - 1),
+                                   std::clamp(x, 0, full.width - 1)) != 0;
+    };
+    std::vector<cv::Point> inner, any;
     const int g = options_.carry_grid;
     for (int iy = 0; iy < g; ++iy) {
       for (int ix = 0; ix < g; ++ix) {
         const cv::Point p(box.x + (2 * ix + 1) * box.width / (2 * g),
                           box.y + (2 * iy + 1) * box.height / (2 * g));
-        if (from.mask.at<uint8_t>(p) != 0) points.emplace_back(p);
+        if (!in_mask(p.x, p.y)) continue;
+        any.push_back(p);
+        if (in_mask(p.x - kCarryWindowRadius, p.y - kCarryWindowRadius) &&
+            in_mask(p.x + kCarryWindowRadius, p.y - kCarryWindowRadius) &&
+            in_mask(p.x - kCarryWindowRadius, p.y + kCarryWindowRadius) &&
+            in_mask(p.x + kCarryWindowRadius, p.y + kCarryWindowRadius)) {
+          inner.push_back(p);
+        }
       }
     }
-    if (points.size() - before < 4) points.resize(before);  // Too few to trust a median.
+    const std::vector<cv::Point>& chosen = inner.size() >= 4 ? inner : any;
+    if (chosen.size() < 4) continue;  // Too few to trust a median.
+    for (const cv::Point& p : chosen)
+      points.emplace_back(static_cast<float>(p.x) / scale, static_cast<float>(p.y) / scale);
   }
   first[from.objects.size()] = points.size();
   std::vector<uint8_t> status;
   if (!points.empty()) {
     std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(from_gray, gray, points, moved, status, error, cv::Size(21, 21), 3);
+    // The same support in full-resolution pixels at either scale: 21 px over 3 levels.
+    const int window = scale == 1 ? 21 : 11;
+    cv::calcOpticalFlowPyrLK(from_small, small, points, moved, status, error,
+                             cv::Size(window, window), scale == 1 ? 3 : 2);
   }
   for (size_t o = 0; o < from.objects.size(); ++o) {
     const DynamicObject& object = from.objects[o];
@@ -122,8 +155,8 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
     std::vector<float> xs, ys;
     for (size_t i = first[o]; i < first[o + 1]; ++i) {
       if (!status[i]) continue;
-      xs.push_back(moved[i].x - points[i].x);
-      ys.push_back(moved[i].y - points[i].y);
+      xs.push_back((moved[i].x - points[i].x) * scale);
+      ys.push_back((moved[i].y - points[i].y) * scale);
     }
     if (!xs.empty()) {
       std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
@@ -150,6 +183,7 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   const bool scheduled = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
   provider_ms_ = propagation_ms_ = wait_ms_ = 0.0;
   last_was_detection_ = false;
+  cv::Mat small = Downscaled(*input.gray);
   if (options_.detector_latency == 0) {
     if (scheduled) {
       MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
@@ -159,7 +193,7 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
       last_was_detection_ = true;
     } else {
       ++frames_since_detection_;
-      current_ = Carry(current_, previous_gray_, *input.gray, depth);
+      current_ = Carry(current_, previous_small_, small, input.gray->size(), depth);
       propagation_ms_ = watch.ElapsedMs();
     }
   } else {
@@ -167,20 +201,20 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     // used at frame k + latency (waiting for it if needed: the schedule never depends on timing),
     // carried by flow from frame k to the current one.
     ++frames_since_detection_;
-    current_ = Carry(current_, previous_gray_, *input.gray, depth);
+    current_ = Carry(current_, previous_small_, small, input.gray->size(), depth);
     if (pending_.valid() && input.frame_id >= pending_frame_ + static_cast<FrameId>(options_.detector_latency)) {
       Stopwatch wait;
       DynamicObjects detected = pending_.get();
       wait_ms_ = wait.ElapsedMs();
       provider_ms_ = pending_provider_ms_;
       frames_since_detection_ = static_cast<int>(input.frame_id - pending_frame_);
-      current_ = Carry(detected, pending_gray_, *input.gray, depth);
+      current_ = Carry(detected, pending_small_, small, input.gray->size(), depth);
       last_was_detection_ = true;
     }
     propagation_ms_ = watch.ElapsedMs() - wait_ms_;
     if (scheduled) {
       pending_frame_ = input.frame_id;
-      input.gray->copyTo(pending_gray_);
+      small.copyTo(pending_small_);
       pending_ = std::async(std::launch::async, [this, id = input.frame_id, ts = input.timestamp_s,
                                                  bgr = input.bgr->clone(),
                                                  depth_copy = depth.clone()]() {
@@ -192,7 +226,7 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
       });
     }
   }
-  input.gray->copyTo(previous_gray_);
+  previous_small_ = std::move(small);
 
   FilterOutput out;
   const std::vector<cv::KeyPoint>& keypoints = input.keypoints->keypoints;

@@ -41,6 +41,8 @@ struct SemanticOptions {
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
   int carry_grid = 4;           // carrying tracks up to carry_grid^2 points per object (LK;
                                 // session 34: 4 instead of 8, 0.2 ms less, same accuracy)
+  int carry_downscale = 2;      // carrying tracks on images downscaled by 1 (full resolution) or
+                                // 2 (pyrDown; LK window 11 over 2 levels instead of 21 over 3)
   DepthRefineOptions refine;    // box -> mask with depth
   void Validate() const;
 };
@@ -77,14 +79,17 @@ class SemanticFilter : public KeypointFilter {
   const DynamicObjects& current() const { return current_; }
 
  private:
-  // `from` (the objects on `from_gray`) moved to `gray` by the median LK flow of each object.
-  DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_gray, const cv::Mat& gray,
-                       const cv::Mat& depth_m) const;
+  // `from` (the objects on `from_small`) moved to `small` by the median LK flow of each object;
+  // both images are the frames' grey images (of size `full`) downscaled by carry_downscale
+  // (Downscaled()).
+  DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_small, const cv::Mat& small,
+                       cv::Size full, const cv::Mat& depth_m) const;
+  cv::Mat Downscaled(const cv::Mat& gray) const;
 
   std::unique_ptr<MaskProvider> provider_;
   SemanticOptions options_;
   DynamicObjects current_;
-  cv::Mat previous_gray_;
+  cv::Mat previous_small_;  // The previous frame's grey image, downscaled.
   int frames_since_detection_ = 0;
   double provider_ms_ = 0.0, propagation_ms_ = 0.0, wait_ms_ = 0.0;
   bool last_was_detection_ = false;
@@ -92,7 +97,7 @@ class SemanticFilter : public KeypointFilter {
   // so that it is destroyed (waiting for the worker) before the provider.
   std::future<DynamicObjects> pending_;
   FrameId pending_frame_ = 0;
-  cv::Mat pending_gray_;
+  cv::Mat pending_small_;
   double pending_provider_ms_ = 0.0;  // Written by the worker before its result is ready.
 };
 

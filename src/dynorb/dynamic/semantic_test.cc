@@ -193,20 +193,28 @@ FilterOutput FilterSquareFrame(SemanticFilter* filter, int frame) {
 }
 
 TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
-  for (int grid : {8, 4, 2}) {  // points tracked per object when carrying: grid x grid
-    SCOPED_TRACE(grid);
+  // Points tracked per object when carrying (grid x grid), on full- or half-resolution images.
+  for (const auto& [grid, downscale] :
+       std::vector<std::pair<int, int>>{{8, 1}, {4, 1}, {4, 2}, {2, 2}}) {
+    SCOPED_TRACE(testing::Message() << grid << "x" << grid << " / " << downscale);
     auto provider = std::make_unique<SquareProvider>();
     provider->refine.dilation_px = 0;
     SquareProvider* raw = provider.get();
     SemanticOptions options;
     options.detect_every = 4;
     options.carry_grid = grid;
+    options.carry_downscale = downscale;
     options.refine.dilation_px = 0;
     SemanticFilter filter(std::move(provider), options);
     for (int frame = 0; frame < 10; ++frame) {
       const FilterOutput out = FilterSquareFrame(&filter, frame);
       SCOPED_TRACE(frame);
       EXPECT_EQ(filter.last_was_detection(), frame % 4 == 0);
+      // The carried box follows the square (3 px per frame) to a fraction of a pixel (before
+      // session 35, LK windows reaching into the static background lagged 1.1 px in 3 frames).
+      ASSERT_EQ(filter.current().objects.size(), 1u);
+      EXPECT_NEAR(filter.current().objects[0].detection.box.x, 30.f + 3.f * frame, 0.3f);
+      EXPECT_NEAR(filter.current().objects[0].detection.box.y, 40.f, 0.3f);
       EXPECT_FALSE(out.keep[0]);  // centre of the moving square, also between detections
       EXPECT_TRUE(out.keep[1]);   // background left of it
       EXPECT_FALSE(out.keep[2]);  // near its moving right edge
@@ -218,6 +226,11 @@ TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
   EXPECT_THROW(bad.Validate(), InputError);
   bad.carry_grid = 17;
   EXPECT_THROW(bad.Validate(), InputError);
+  for (int downscale : {0, 3, 4}) {
+    SemanticOptions wrong;
+    wrong.carry_downscale = downscale;
+    EXPECT_THROW(wrong.Validate(), InputError);
+  }
 }
 
 // Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
