@@ -85,13 +85,13 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   std::vector<float> all(static_cast<size_t>((rect.width + step - 1) / step) *
                          ((rect.height + step - 1) / step)),
       central(static_cast<size_t>((cx1 - cx0) / step + 1) * ((cy1 - cy0) / step + 1));
-  size_t num_all = 0, num_central = 0, num_sampled = 0;
+  const size_t num_sampled = all.size();
+  size_t num_all = 0, num_central = 0;
   for (int y = 0; y < depth.rows; y += step) {
     const float* row = depth.ptr<float>(y);
     for (int x = 0; x < depth.cols; x += step) {
       all[num_all] = row[x];
       num_all += row[x] > 0.f;
-      ++num_sampled;
     }
     if (y < cy0 || y > cy1) continue;
     for (int x = cx0; x <= cx1; x += step) {

@@ -183,13 +183,16 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   const bool scheduled = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
   provider_ms_ = propagation_ms_ = wait_ms_ = 0.0;
   last_was_detection_ = false;
+  // The image the next frame's carrying starts from: part of the propagation stage.
   cv::Mat small = Downscaled(*input.gray);
+  const double downscale_ms = watch.ElapsedMs();
   if (options_.detector_latency == 0) {
     if (scheduled) {
       MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
       current_ = provider_->Masks(query);
       frames_since_detection_ = 0;
-      provider_ms_ = watch.ElapsedMs();
+      provider_ms_ = watch.ElapsedMs() - downscale_ms;
+      propagation_ms_ = downscale_ms;
       last_was_detection_ = true;
     } else {
       ++frames_since_detection_;
