@@ -1,9 +1,11 @@
 // Semantic mode: ms per inference of each detector (OpenCV DNN, CPU) on the real TUM frame,
 // plus the box -> depth-mask refinement and its 8 px elliptic dilation. Needs the models in
 // ../shared/models (skipped otherwise).
+#include <ctime>
 #include <filesystem>
 
 #include <benchmark/benchmark.h>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -17,7 +19,11 @@ namespace {
 const std::string kShared = std::string(DYNORB_SOURCE_DIR) + "/../shared";
 const std::string kFrame = kShared + "/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0";
 
-void BM_Detector(benchmark::State& state, const std::string& model, cv::Size input = {}) {
+// `process_cpu_ms`: CPU time of the whole process per call (std::clock, so OpenCV's worker
+// threads count too; Google Benchmark's CPU column counts only the calling thread).
+// `opencv_threads` > 0: cv::setNumThreads for the benchmark (restored after).
+void BM_Detector(benchmark::State& state, const std::string& model, cv::Size input = {},
+                 int opencv_threads = 0) {
   const cv::Mat bgr = cv::imread(kFrame + "/rgb/1341846313.592026.png");
   if (bgr.empty() || !std::filesystem::is_directory(kShared + "/models/" + model)) {
     state.SkipWithError("shared models/data not found");
@@ -29,16 +35,28 @@ void BM_Detector(benchmark::State& state, const std::string& model, cv::Size inp
   options.input_width = input.width;
   options.input_height = input.height;
   DnnDetector detector(options);
+  const int threads_before = cv::getNumThreads();
+  if (opencv_threads > 0) cv::setNumThreads(opencv_threads);
   double inference_ms = 0.0;
   size_t found = 0;
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     found = detector.Detect(bgr).size();
     inference_ms += detector.last_timing().inference_ms;
   }
-  state.counters["inference_ms"] = inference_ms / static_cast<double>(state.iterations());
+  const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  if (opencv_threads > 0) cv::setNumThreads(threads_before);
+  const double calls = static_cast<double>(state.iterations());
+  state.counters["inference_ms"] = inference_ms / calls;
+  state.counters["process_cpu_ms"] = cpu_ms / calls;
   state.counters["detections"] = static_cast<double>(found);
 }
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1, std::string("yolo_fastest_1.1"))->Unit(benchmark::kMillisecond);
+// The same on one OpenCV thread: on 2 cores the second thread buys little speed for much CPU
+// (session 36: 15.9 ms wall / 24.3 ms CPU per call with 2 threads, 18.8 / 18.8 with 1).
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_one_thread, std::string("yolo_fastest_1.1"),
+                  cv::Size(), 1)
+    ->Unit(benchmark::kMillisecond);
 // The same network on a 320 x 256 input: the 4:3 frame stretched less, 20 % fewer pixels.
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_320x256, std::string("yolo_fastest_1.1"),
                   cv::Size(320, 256))
