@@ -53,7 +53,8 @@ void BM_Detector(benchmark::State& state, const std::string& model, cv::Size inp
 }
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1, std::string("yolo_fastest_1.1"))->Unit(benchmark::kMillisecond);
 // The same on one OpenCV thread: on 2 cores the second thread buys little speed for much CPU
-// (session 36, this benchmark: 12.8 ms wall / 24.1 ms CPU per call with 2 threads, 17.6 / 17.6 with 1).
+// (session 36, this benchmark: 12.8 ms wall / 24.1 ms CPU per call with 2 threads, 17.6 / 17.6
+// with 1).
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_one_thread, std::string("yolo_fastest_1.1"),
                   cv::Size(), 1)
     ->Unit(benchmark::kMillisecond);
