@@ -29,6 +29,8 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("input_height", &o.detector.input_height,
            "detector input height (px, multiple of 32; 0: the model's; darknet models only)")
       .Add("classes", &o.classes, "a-priori dynamic COCO classes")
+      .Add("prune_heads", &o.detector.prune_heads,
+           "darknet models: cut the [yolo] heads to these classes (same scores, less work)")
       .Add("detect_every", &o.detect_every,
            "run the detector on every Nth frame, carry masks by flow between")
       .Add("detector_latency", &o.detector_latency,

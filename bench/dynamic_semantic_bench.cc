@@ -12,6 +12,7 @@
 #include "dynorb/dynamic/detector_dnn.h"
 #include "dynorb/dynamic/mask_refine.h"
 #include "dynorb/dynamic/morphology.h"
+#include "dynorb/dynamic/semantic_filter.h"
 
 namespace dynorb {
 namespace {
@@ -22,8 +23,10 @@ const std::string kFrame = kShared + "/data/tum/rgbd_dataset_freiburg3_walking_x
 // `process_cpu_ms`: CPU time of the whole process per call (std::clock, so OpenCV's worker
 // threads count too; Google Benchmark's CPU column counts only the calling thread).
 // `opencv_threads` > 0: cv::setNumThreads for the benchmark (restored after).
+// `dynamic_classes`: only the semantic mode's default classes, as `dynorb run` asks for them
+// (darknet heads cut to them).
 void BM_Detector(benchmark::State& state, const std::string& model, cv::Size input = {},
-                 int opencv_threads = 0) {
+                 int opencv_threads = 0, bool dynamic_classes = false) {
   const cv::Mat bgr = cv::imread(kFrame + "/rgb/1341846313.592026.png");
   if (bgr.empty() || !std::filesystem::is_directory(kShared + "/models/" + model)) {
     state.SkipWithError("shared models/data not found");
@@ -34,6 +37,11 @@ void BM_Detector(benchmark::State& state, const std::string& model, cv::Size inp
   options.models_dir = kShared + "/models";
   options.input_width = input.width;
   options.input_height = input.height;
+  if (dynamic_classes) {
+    SemanticOptions semantic;
+    semantic.detector = options;
+    options = SemanticDetectorOptions(semantic);
+  }
   DnnDetector detector(options);
   const int threads_before = cv::getNumThreads();
   if (opencv_threads > 0) cv::setNumThreads(opencv_threads);
@@ -57,6 +65,13 @@ BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1, std::string("yolo_fastest_1.1")
 // with 1).
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_one_thread, std::string("yolo_fastest_1.1"),
                   cv::Size(), 1)
+    ->Unit(benchmark::kMillisecond);
+// As `dynorb run --mode semantic` runs it: heads cut to the 16 default dynamic classes.
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_dynamic_classes, std::string("yolo_fastest_1.1"),
+                  cv::Size(), 0, true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_dynamic_classes_one_thread,
+                  std::string("yolo_fastest_1.1"), cv::Size(), 1, true)
     ->Unit(benchmark::kMillisecond);
 // The same network on a 320 x 256 input: the 4:3 frame stretched less, 20 % fewer pixels.
 BENCHMARK_CAPTURE(BM_Detector, yolo_fastest_1_1_320x256, std::string("yolo_fastest_1.1"),

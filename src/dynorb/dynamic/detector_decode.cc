@@ -11,10 +11,20 @@ namespace {
 
 float Sigmoid(float x) { return 1.f / (1.f + std::exp(-x)); }
 
-// Best class of a score row: (index, score).
-std::pair<int, float> BestClass(const float* scores, int num_classes) {
-  const float* best = std::max_element(scores, scores + num_classes);
-  return {static_cast<int>(best - scores), *best};
+// Best class of a score row among the allowed ones (all when `allowed` is empty): (index, score);
+// (-1, 0) when none is allowed.
+std::pair<int, float> BestClass(const float* scores, int num_classes,
+                                const std::vector<bool>& allowed) {
+  if (allowed.empty()) {
+    const float* best = std::max_element(scores, scores + num_classes);
+    return {static_cast<int>(best - scores), *best};
+  }
+  CV_Assert(static_cast<int>(allowed.size()) == num_classes);
+  std::pair<int, float> best{-1, 0.f};
+  for (int c = 0; c < num_classes; ++c) {
+    if (allowed[c] && (best.first < 0 || scores[c] > best.second)) best = {c, scores[c]};
+  }
+  return best;
 }
 
 Detection FromCenter(float cx, float cy, float w, float h, int class_id, float score) {
@@ -85,13 +95,14 @@ std::vector<Detection> MapToImage(const std::vector<Detection>& net_boxes, const
   return out;
 }
 
-std::vector<Detection> DecodeDarknetRows(const cv::Mat& rows, cv::Size net, float min_score) {
+std::vector<Detection> DecodeDarknetRows(const cv::Mat& rows, cv::Size net, float min_score,
+                                         const std::vector<bool>& allowed) {
   CV_Assert(rows.type() == CV_32F && rows.dims == 2 && rows.cols > 5);
   std::vector<Detection> out;
   const int num_classes = rows.cols - 5;
   for (int r = 0; r < rows.rows; ++r) {
     const float* row = rows.ptr<float>(r);
-    const auto [cls, score] = BestClass(row + 5, num_classes);
+    const auto [cls, score] = BestClass(row + 5, num_classes, allowed);
     if (score < min_score) continue;
     out.push_back(FromCenter(row[0] * net.width, row[1] * net.height, row[2] * net.width,
                              row[3] * net.height, cls, score));
@@ -99,7 +110,8 @@ std::vector<Detection> DecodeDarknetRows(const cv::Mat& rows, cv::Size net, floa
   return out;
 }
 
-std::vector<Detection> DecodeYolox(const cv::Mat& out_tensor, cv::Size net, float min_score) {
+std::vector<Detection> DecodeYolox(const cv::Mat& out_tensor, cv::Size net, float min_score,
+                                   const std::vector<bool>& allowed) {
   CV_Assert(out_tensor.type() == CV_32F && out_tensor.isContinuous());
   const int cols = out_tensor.size[out_tensor.dims - 1];
   CV_Assert(cols > 5);
@@ -113,7 +125,7 @@ std::vector<Detection> DecodeYolox(const cv::Mat& out_tensor, cv::Size net, floa
       for (int gx = 0; gx < grid_w; ++gx, ++index) {
         CV_Assert(index < anchors);
         const float* row = data + index * cols;
-        const auto [cls, cls_score] = BestClass(row + 5, cols - 5);
+        const auto [cls, cls_score] = BestClass(row + 5, cols - 5, allowed);
         const float score = row[4] * cls_score;
         if (score < min_score) continue;
         out.push_back(FromCenter((row[0] + gx) * stride, (row[1] + gy) * stride,
@@ -125,7 +137,8 @@ std::vector<Detection> DecodeYolox(const cv::Mat& out_tensor, cv::Size net, floa
   return out;
 }
 
-std::vector<Detection> DecodeFastestDet(const cv::Mat& out_tensor, cv::Size net, float min_score) {
+std::vector<Detection> DecodeFastestDet(const cv::Mat& out_tensor, cv::Size net, float min_score,
+                                        const std::vector<bool>& allowed) {
   CV_Assert(out_tensor.type() == CV_32F && out_tensor.dims == 4 && out_tensor.isContinuous());
   const int channels = out_tensor.size[1], grid_h = out_tensor.size[2], grid_w = out_tensor.size[3];
   CV_Assert(channels > 5);
@@ -138,7 +151,7 @@ std::vector<Detection> DecodeFastestDet(const cv::Mat& out_tensor, cv::Size net,
       const size_t cell = static_cast<size_t>(gy) * grid_w + gx;
       auto at = [&](int c) { return data[c * plane + cell]; };
       for (int c = 5; c < channels; ++c) cls_scores[c - 5] = at(c);
-      const auto [cls, cls_score] = BestClass(cls_scores.data(), channels - 5);
+      const auto [cls, cls_score] = BestClass(cls_scores.data(), channels - 5, allowed);
       const float score = std::pow(std::max(at(0), 0.f), 0.6f) * std::pow(std::max(cls_score, 0.f), 0.4f);
       if (score < min_score) continue;
       const float cx = (gx + std::tanh(at(1))) / grid_w, cy = (gy + std::tanh(at(2))) / grid_h;
@@ -150,7 +163,8 @@ std::vector<Detection> DecodeFastestDet(const cv::Mat& out_tensor, cv::Size net,
 }
 
 std::vector<Detection> DecodeNanoDetLevel(const cv::Mat& cls, const cv::Mat& reg, int stride,
-                                          cv::Size net, float min_score) {
+                                          cv::Size net, float min_score,
+                                          const std::vector<bool>& allowed) {
   CV_Assert(cls.type() == CV_32F && reg.type() == CV_32F && cls.isContinuous() && reg.isContinuous());
   const int num_classes = cls.size[cls.dims - 1];
   const int reg_cols = reg.size[reg.dims - 1];
@@ -164,7 +178,7 @@ std::vector<Detection> DecodeNanoDetLevel(const cv::Mat& cls, const cv::Mat& reg
   std::vector<Detection> out;
   std::vector<float> prob(bins);
   for (size_t cell = 0; cell < cells; ++cell) {
-    const auto [label, score] = BestClass(cls_data + cell * num_classes, num_classes);
+    const auto [label, score] = BestClass(cls_data + cell * num_classes, num_classes, allowed);
     if (score < min_score) continue;
     float dist[4];
     for (int side = 0; side < 4; ++side) {

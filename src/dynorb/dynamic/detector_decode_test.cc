@@ -55,6 +55,24 @@ TEST(DetectorDecode, DarknetRows) {
   EXPECT_FLOAT_EQ(d[0].box.width, 32.f);
 }
 
+// Only the allowed classes compete: a row whose best class is not allowed takes its best allowed
+// class when that one passes the threshold, and is dropped otherwise.
+TEST(DetectorDecode, OnlyAllowedClassesCompete) {
+  cv::Mat rows = cv::Mat::zeros(2, 5 + 3, CV_32F);
+  const float r0[] = {0.5f, 0.25f, 0.1f, 0.2f, 0.9f, 0.4f, 0.8f, 0.35f};
+  const float r1[] = {0.5f, 0.25f, 0.1f, 0.2f, 0.9f, 0.1f, 0.8f, 0.2f};
+  std::copy(r0, r0 + 8, rows.ptr<float>(0));
+  std::copy(r1, r1 + 8, rows.ptr<float>(1));
+  const auto all = DecodeDarknetRows(rows, {320, 320}, 0.3f);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].class_id, 1);
+  const auto d = DecodeDarknetRows(rows, {320, 320}, 0.3f, {true, false, true});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].class_id, 0);
+  EXPECT_FLOAT_EQ(d[0].score, 0.4f);
+  EXPECT_TRUE(DecodeDarknetRows(rows, {320, 320}, 0.3f, {false, false, false}).empty());
+}
+
 TEST(DetectorDecode, YoloxGridOffsets) {
   const cv::Size net(64, 64);  // 8x8 + 4x4 + 2x2 = 84 anchors
   const int sizes[] = {1, 84, 7};

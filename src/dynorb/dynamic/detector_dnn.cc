@@ -1,5 +1,6 @@
 #include "dynorb/dynamic/detector_dnn.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/timer.h"
+#include "dynorb/dynamic/darknet_model.h"
 
 namespace dynorb {
 namespace {
@@ -35,58 +37,6 @@ std::vector<std::string> ReadNames(const std::string& path) {
   }
   if (names.empty()) throw InputError(path + ": class-name file is empty (expected one class name per line)");
   return names;
-}
-
-// Darknet cfg as a list of (section, key -> value).
-struct CfgSection {
-  std::string type;
-  std::map<std::string, std::string> values;
-  int line = 0;
-};
-
-std::vector<CfgSection> ReadCfg(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot read the darknet cfg; " + kFetchHint);
-  std::vector<CfgSection> sections;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    line = Trim(line.substr(0, line.find('#')));
-    if (line.empty()) continue;
-    if (line.front() == '[') {
-      if (line.back() != ']') throw InputErrorAt(path, number, "malformed section header '" + line + "'");
-      sections.push_back({line.substr(1, line.size() - 2), {}, number});
-      continue;
-    }
-    const size_t eq = line.find('=');
-    if (eq == std::string::npos || sections.empty()) {
-      throw InputErrorAt(path, number, "expected 'key=value' inside a [section], got '" + line + "'");
-    }
-    sections.back().values[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
-  }
-  if (sections.empty() || sections.front().type != "net") {
-    throw InputError(path + ": not a darknet cfg (expected a first [net] section)");
-  }
-  return sections;
-}
-
-int IntValue(const CfgSection& s, const std::string& key, int fallback, const std::string& path) {
-  auto it = s.values.find(key);
-  if (it == s.values.end()) return fallback;
-  try {
-    return std::stoi(it->second);
-  } catch (const std::exception&) {
-    throw InputErrorAt(path, s.line, "[" + s.type + "] " + key + " is not an integer: '" + it->second + "'");
-  }
-}
-
-std::vector<int> IntList(const std::string& text) {
-  std::vector<int> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(std::stoi(Trim(item)));
-  return out;
 }
 
 std::string Join(const std::vector<std::string>& names) {
@@ -168,47 +118,6 @@ void DetectorOptions::Validate() const {
   }
 }
 
-size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes) {
-  const std::vector<CfgSection> sections = ReadCfg(cfg_path);
-  std::vector<int> channels;  // output channels of each layer (sections after [net])
-  int current = IntValue(sections[0], "channels", 3, cfg_path);
-  size_t params = 0;
-  for (size_t i = 1; i < sections.size(); ++i) {
-    const CfgSection& s = sections[i];
-    const int index = static_cast<int>(i) - 1;
-    if (s.type == "convolutional") {
-      const int filters = IntValue(s, "filters", 1, cfg_path);
-      const int size = IntValue(s, "size", 1, cfg_path);
-      const int groups = IntValue(s, "groups", 1, cfg_path);
-      const bool bn = IntValue(s, "batch_normalize", 0, cfg_path) != 0;
-      if (groups < 1 || current % groups != 0) {
-        throw InputErrorAt(cfg_path, s.line, "groups=" + std::to_string(groups) + " does not divide the " +
-                                                 std::to_string(current) + " input channels");
-      }
-      params += static_cast<size_t>(bn ? 4 : 1) * filters +
-                static_cast<size_t>(filters) * (current / groups) * size * size;
-      current = filters;
-    } else if (s.type == "route") {
-      auto it = s.values.find("layers");
-      if (it == s.values.end()) throw InputErrorAt(cfg_path, s.line, "[route] without layers=");
-      int sum = 0;
-      for (int ref : IntList(it->second)) {
-        const int abs = ref < 0 ? index + ref : ref;
-        if (abs < 0 || abs >= index) throw InputErrorAt(cfg_path, s.line, "[route] refers to a missing layer");
-        sum += channels[abs];
-      }
-      current = sum;
-    } else if (s.type == "shortcut" || s.type == "maxpool" || s.type == "upsample" || s.type == "yolo" ||
-               s.type == "dropout") {
-      // Channel count unchanged, no weights.
-    } else {
-      throw InputErrorAt(cfg_path, s.line, "unsupported darknet layer [" + s.type + "]");
-    }
-    channels.push_back(current);
-  }
-  return header_bytes + params * sizeof(float);
-}
-
 void DnnDetector::CheckFiles(const std::string& folder) {
   if (!fs::is_directory(folder)) {
     throw InputError("detector model '" + spec_.name + "': folder " + folder + " not found; " + kFetchHint);
@@ -226,13 +135,7 @@ void DnnDetector::CheckFiles(const std::string& folder) {
   // Darknet weights carry no shape information: compare the file size with the cfg's parameters.
   const std::string weights = (fs::path(folder) / spec_.model_file).string();
   const std::string cfg = (fs::path(folder) / spec_.config_file).string();
-  std::ifstream in(weights, std::ios::binary);
-  int32_t version[3] = {0, 0, 0};
-  in.read(reinterpret_cast<char*>(version), sizeof(version));
-  if (!in) throw InputError(weights + ": truncated darknet weights header (expected 3 int32 version fields)");
-  const bool wide_seen = version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
-  const size_t header = sizeof(version) + (wide_seen ? 8 : 4);
-  const size_t expected = DarknetExpectedWeightBytes(cfg, header);
+  const size_t expected = DarknetExpectedWeightBytes(cfg, DarknetWeightsHeaderBytes(weights));
   const size_t actual = fs::file_size(weights);
   if (actual != expected) {
     throw InputError(weights + ": " + std::to_string(actual) + " bytes, but " + cfg + " describes a network of " +
@@ -253,11 +156,43 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
   for (std::string& name : class_names_) {
     if (name == "body") name = "person";
   }
+  std::vector<int> keep;  // indices of the asked classes
+  if (!options_.classes.empty()) {
+    for (size_t i = 0; i < class_names_.size(); ++i) {
+      if (std::find(options_.classes.begin(), options_.classes.end(), class_names_[i]) !=
+          options_.classes.end()) {
+        keep.push_back(static_cast<int>(i));
+      }
+    }
+    if (keep.empty()) {
+      throw InputError("detector model '" + spec_.name + "' has none of the classes " +
+                       Join(options_.classes) + " (its classes: " + Join(class_names_) + ")");
+    }
+  }
+  const bool prune = spec_.family == ModelFamily::kDarknetYolo && options_.prune_heads &&
+                     !keep.empty() && keep.size() < class_names_.size();
   try {
-    if (spec_.family == ModelFamily::kDarknetYolo) {
+    if (prune) {
+      const DarknetBuffers model =
+          PruneDarknetClasses((fs::path(folder) / spec_.config_file).string(), model_path, keep);
+      net_ = cv::dnn::readNetFromDarknet(model.cfg.data(), model.cfg.size(), model.weights.data(),
+                                         model.weights.size());
+      std::vector<std::string> kept;
+      for (int i : keep) kept.push_back(class_names_[i]);
+      class_names_ = kept;
+      pruned_ = true;
+    } else if (spec_.family == ModelFamily::kDarknetYolo) {
       net_ = cv::dnn::readNetFromDarknet((fs::path(folder) / spec_.config_file).string(), model_path);
+      if (!keep.empty()) {
+        allowed_.assign(class_names_.size(), false);
+        for (int i : keep) allowed_[i] = true;
+      }
     } else {
       net_ = cv::dnn::readNetFromONNX(model_path);
+      if (!keep.empty()) {
+        allowed_.assign(class_names_.size(), false);
+        for (int i : keep) allowed_[i] = true;
+      }
     }
   } catch (const cv::Exception& e) {
     throw InputError(model_path + ": OpenCV DNN cannot load this " +
@@ -335,7 +270,7 @@ std::vector<Detection> DnnDetector::Decode(const std::vector<cv::Mat>& outputs, 
     case ModelFamily::kDarknetYolo:
       for (const cv::Mat& out : outputs) {
         expect(out.dims == 2 && out.cols == 5 + num_classes, "[yolo] rows of 5 + classes values");
-        const auto d = DecodeDarknetRows(out, t.net_size, thr);
+        const auto d = DecodeDarknetRows(out, t.net_size, thr, allowed_);
         net_boxes.insert(net_boxes.end(), d.begin(), d.end());
       }
       break;
@@ -344,13 +279,13 @@ std::vector<Detection> DnnDetector::Decode(const std::vector<cv::Mat>& outputs, 
       const int s = t.net_size.area();
       expect(outputs[0].total() == static_cast<size_t>(s / 64 + s / 256 + s / 1024) * (5 + num_classes),
              "anchors of strides 8/16/32");
-      net_boxes = DecodeYolox(outputs[0], t.net_size, thr);
+      net_boxes = DecodeYolox(outputs[0], t.net_size, thr, allowed_);
       break;
     }
     case ModelFamily::kFastestDet:
       expect(outputs.size() == 1 && outputs[0].dims == 4 && outputs[0].size[1] == 5 + num_classes,
              "1 x (5 + classes) x H x W");
-      net_boxes = DecodeFastestDet(outputs[0], t.net_size, thr);
+      net_boxes = DecodeFastestDet(outputs[0], t.net_size, thr, allowed_);
       break;
     case ModelFamily::kNanoDet: {
       // Pair score and box outputs of each stride by their cell count.
@@ -366,7 +301,8 @@ std::vector<Detection> DnnDetector::Decode(const std::vector<cv::Mat>& outputs, 
         auto c = cls_by_cells.find(cells);
         auto r = reg_by_cells.find(cells);
         if (c == cls_by_cells.end() || r == reg_by_cells.end()) continue;
-        const auto d = DecodeNanoDetLevel(*c->second, *r->second, stride, t.net_size, thr);
+        const auto d =
+            DecodeNanoDetLevel(*c->second, *r->second, stride, t.net_size, thr, allowed_);
         net_boxes.insert(net_boxes.end(), d.begin(), d.end());
       }
       break;

@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 
+#include "dynorb/dynamic/darknet_model.h"
 #include "dynorb/dynamic/detector_decode.h"
 
 namespace dynorb {
@@ -49,6 +50,12 @@ struct DetectorOptions {
   // Network input size in pixels; 0 x 0 = the model's own (SOURCE.txt). Darknet models only
   // (fully convolutional): multiples of 32, e.g. 320 x 256 for 4:3 images instead of 320 x 320.
   int input_width = 0, input_height = 0;
+  // Only these classes are detected (names of the model's names file, "body" read as "person";
+  // empty = all): a box takes the best-scoring of them. A darknet model then runs with its [yolo]
+  // heads cut to them (`prune_heads`, PruneDarknetClasses: the same scores, less work); the ONNX
+  // graphs run whole and their other classes are ignored.
+  std::vector<std::string> classes;
+  bool prune_heads = true;
   void Validate() const;
 };
 
@@ -58,17 +65,16 @@ struct DetectorTiming {
   double postprocess_ms = 0.0;
 };
 
-// Expected size in bytes of the darknet weights file for `cfg_path` (header of `header_bytes`
-// + one float per parameter). Throws InputError for an unreadable/unsupported cfg.
-size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes);
-
 class DnnDetector {
  public:
   explicit DnnDetector(const DetectorOptions& options);
   // Boxes in image pixels after thresholding and NMS, decreasing score.
   std::vector<Detection> Detect(const cv::Mat& bgr);
   // The model's class names (the body model's single class "body" is reported as "person").
+  // With DetectorOptions::classes on a pruned darknet model, only the kept classes.
   const std::vector<std::string>& class_names() const { return class_names_; }
+  // Whether the network's heads were cut to DetectorOptions::classes.
+  bool pruned() const { return pruned_; }
   const ModelSpec& spec() const { return spec_; }
   const DetectorTiming& last_timing() const { return timing_; }
 
@@ -83,6 +89,8 @@ class DnnDetector {
   cv::dnn::Net net_;
   std::vector<std::string> output_names_;
   std::vector<std::string> class_names_;
+  std::vector<bool> allowed_;  // per class of the output: detected (empty = all)
+  bool pruned_ = false;
   DetectorTiming timing_;
 };
 

@@ -62,8 +62,15 @@ void SemanticOptions::Validate() const {
   ResolveDynamicClasses(classes, CocoClassNames());
 }
 
+DetectorOptions SemanticDetectorOptions(const SemanticOptions& options) {
+  DetectorOptions detector = options.detector;
+  detector.classes.clear();
+  for (const std::string& name : options.classes) detector.classes.push_back(Canonical(name));
+  return detector;
+}
+
 DetectorMaskProvider::DetectorMaskProvider(const SemanticOptions& options)
-    : options_((options.Validate(), options)), detector_(options.detector) {
+    : options_((options.Validate(), options)), detector_(SemanticDetectorOptions(options)) {
   dynamic_class_ = ResolveDynamicClasses(options_.classes, detector_.class_names());
 }
 

@@ -47,6 +47,11 @@ struct SemanticOptions {
   void Validate() const;
 };
 
+// options.detector asked for options.classes only (spelled as the models' names files spell
+// them): a box takes the best-scoring dynamic class, and a darknet model runs with its heads cut
+// to those classes (DetectorOptions::prune_heads).
+DetectorOptions SemanticDetectorOptions(const SemanticOptions& options);
+
 // Detector-backed provider: DnnDetector + class filter + depth refinement.
 class DetectorMaskProvider : public MaskProvider {
  public:

@@ -53,6 +53,61 @@ TEST(SemanticDetector, EveryModelFindsThePeopleInRealImages) {
   }
 }
 
+void ExpectInputError(const DetectorOptions& options, const std::string& needle) {
+  try {
+    DnnDetector detector(options);
+    FAIL() << "no error for " << needle;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+// Asked for some classes, a darknet model runs with its heads cut to them and finds exactly what
+// the whole network finds among those classes (same boxes and scores up to float rounding); an
+// ONNX model runs whole and ignores the other classes.
+TEST(SemanticDetector, ClassPrunedHeadsFindWhatTheWholeNetworkFinds) {
+  if (!fs::is_directory(kModels)) GTEST_SKIP() << "no shared models at " << kShared;
+  const cv::Mat photo = cv::imread(kShared + "/data/images/person_dog_horse.jpg");
+  const cv::Mat tum = cv::imread(kTumFrame + "/rgb/1341846313.592026.png");
+  ASSERT_FALSE(photo.empty() || tum.empty());
+  for (const std::string model : {"yolo_fastest_1.1", "yolo_fastest_1.1_xl", "fastestdet"}) {
+    SCOPED_TRACE(model);
+    DetectorOptions options;
+    options.model = model;
+    options.models_dir = kModels;
+    options.classes = {"person", "dog", "horse", "car"};
+    DnnDetector cut(options);
+    options.prune_heads = false;
+    DnnDetector whole(options);
+    EXPECT_EQ(cut.pruned(), model != "fastestdet");
+    EXPECT_FALSE(whole.pruned());
+    for (const cv::Mat* image : {&photo, &tum}) {
+      const auto a = whole.Detect(*image), b = cut.Detect(*image);
+      ASSERT_EQ(a.size(), b.size());
+      ASSERT_FALSE(a.empty());
+      for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(whole.class_names()[a[i].class_id], cut.class_names()[b[i].class_id]);
+        EXPECT_NEAR(a[i].score, b[i].score, 1e-4);
+        EXPECT_NEAR(a[i].box.x, b[i].box.x, 0.05);
+        EXPECT_NEAR(a[i].box.y, b[i].box.y, 0.05);
+        EXPECT_NEAR(a[i].box.width, b[i].box.width, 0.05);
+        EXPECT_NEAR(a[i].box.height, b[i].box.height, 0.05);
+        EXPECT_NE(std::find(options.classes.begin(), options.classes.end(),
+                            cut.class_names()[b[i].class_id]),
+                  options.classes.end());
+      }
+    }
+  }
+  // The single-class body model has nothing to cut; a class it does not have is an error.
+  DetectorOptions body;
+  body.model = "yolo_fastest_1.1_body";
+  body.models_dir = kModels;
+  body.classes = {"person", "car"};
+  EXPECT_FALSE(DnnDetector(body).pruned());
+  body.classes = {"car"};
+  ExpectInputError(body, "has none of the classes car");
+}
+
 // The darknet models are fully convolutional: on a 320 x 256 input (a 4:3 frame stretched less,
 // 20 % fewer pixels) they find the same people; the ONNX models refuse another size.
 TEST(SemanticDetector, DarknetModelsTakeAnAspectMatchedInputSize) {
@@ -320,15 +375,6 @@ TEST(FileMaskProvider, BoxesAndMasksLists) {
   EXPECT_THROW(missing.Masks({0, 1.0, &bgr, nullptr}), InputError);
   EXPECT_THROW(FileMaskProvider((dir / "none.txt").string(), MaskFileKind::kMasks, refine), InputError);
   fs::remove_all(dir);
-}
-
-void ExpectInputError(const DetectorOptions& options, const std::string& needle) {
-  try {
-    DnnDetector detector(options);
-    FAIL() << "no error for " << needle;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
 }
 
 TEST(SemanticDetector, BadModelFilesAndClassesAreClearErrors) {

@@ -1,0 +1,257 @@
+#include "dynorb/dynamic/darknet_model.h"
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "dynorb/core/error.h"
+
+namespace dynorb {
+namespace {
+
+std::string Trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+int IntValue(const DarknetSection& s, const std::string& key, int fallback,
+             const std::string& path) {
+  auto it = s.values.find(key);
+  if (it == s.values.end()) return fallback;
+  try {
+    return std::stoi(it->second);
+  } catch (const std::exception&) {
+    throw InputErrorAt(path, s.line,
+                       "[" + s.type + "] " + key + " is not an integer: '" + it->second + "'");
+  }
+}
+
+std::vector<int> IntList(const std::string& text, const DarknetSection& s,
+                         const std::string& path) {
+  std::vector<int> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      out.push_back(std::stoi(Trim(item)));
+    } catch (const std::exception&) {
+      throw InputErrorAt(path, s.line,
+                         "[" + s.type + "] expected a list of integers, got '" + text + "'");
+    }
+  }
+  return out;
+}
+
+// Number of anchors a [yolo] head predicts per cell: its mask list, else num.
+int HeadAnchors(const DarknetSection& yolo, const std::string& path) {
+  auto it = yolo.values.find("mask");
+  if (it != yolo.values.end()) return static_cast<int>(IntList(it->second, yolo, path).size());
+  return IntValue(yolo, "num", 1, path);
+}
+
+}  // namespace
+
+std::vector<DarknetSection> ReadDarknetCfg(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the darknet cfg");
+  std::vector<DarknetSection> sections;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    line = Trim(line.substr(0, line.find('#')));
+    if (line.empty()) continue;
+    if (line.front() == '[') {
+      if (line.back() != ']')
+        throw InputErrorAt(path, number, "malformed section header '" + line + "'");
+      sections.push_back({line.substr(1, line.size() - 2), {}, number});
+      continue;
+    }
+    const size_t eq = line.find('=');
+    if (eq == std::string::npos || sections.empty()) {
+      throw InputErrorAt(path, number,
+                         "expected 'key=value' inside a [section], got '" + line + "'");
+    }
+    sections.back().values[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+  }
+  if (sections.empty() || sections.front().type != "net") {
+    throw InputError(path + ": not a darknet cfg (expected a first [net] section)");
+  }
+  return sections;
+}
+
+size_t DarknetConv::KernelFloats() const {
+  return static_cast<size_t>(in_channels / groups) * size * size;
+}
+
+size_t DarknetConv::Floats() const {
+  return static_cast<size_t>(batch_normalize ? 4 : 1) * filters +
+         static_cast<size_t>(filters) * KernelFloats();
+}
+
+std::vector<DarknetConv> DarknetConvolutions(const std::vector<DarknetSection>& sections,
+                                             const std::string& cfg_path) {
+  std::vector<DarknetConv> convs;
+  std::vector<int> channels;  // output channels of each layer (sections after [net])
+  int current = IntValue(sections[0], "channels", 3, cfg_path);
+  for (size_t i = 1; i < sections.size(); ++i) {
+    const DarknetSection& s = sections[i];
+    const int index = static_cast<int>(i) - 1;
+    if (s.type == "convolutional") {
+      DarknetConv conv;
+      conv.section = i;
+      conv.filters = IntValue(s, "filters", 1, cfg_path);
+      conv.in_channels = current;
+      conv.size = IntValue(s, "size", 1, cfg_path);
+      conv.groups = IntValue(s, "groups", 1, cfg_path);
+      conv.batch_normalize = IntValue(s, "batch_normalize", 0, cfg_path) != 0;
+      if (conv.filters < 1 || conv.size < 1) {
+        throw InputErrorAt(cfg_path, s.line, "filters and size must be positive");
+      }
+      if (conv.groups < 1 || current % conv.groups != 0) {
+        throw InputErrorAt(cfg_path, s.line,
+                           "groups=" + std::to_string(conv.groups) + " does not divide the " +
+                               std::to_string(current) + " input channels");
+      }
+      convs.push_back(conv);
+      current = conv.filters;
+    } else if (s.type == "route") {
+      auto it = s.values.find("layers");
+      if (it == s.values.end()) throw InputErrorAt(cfg_path, s.line, "[route] without layers=");
+      int sum = 0;
+      for (int ref : IntList(it->second, s, cfg_path)) {
+        const int abs = ref < 0 ? index + ref : ref;
+        if (abs < 0 || abs >= index)
+          throw InputErrorAt(cfg_path, s.line, "[route] refers to a missing layer");
+        sum += channels[abs];
+      }
+      current = sum;
+    } else if (s.type == "shortcut" || s.type == "maxpool" || s.type == "upsample" ||
+               s.type == "yolo" || s.type == "dropout") {
+      // Channel count unchanged, no weights.
+    } else {
+      throw InputErrorAt(cfg_path, s.line, "unsupported darknet layer [" + s.type + "]");
+    }
+    channels.push_back(current);
+  }
+  return convs;
+}
+
+size_t DarknetWeightsHeaderBytes(const std::string& weights_path) {
+  std::ifstream in(weights_path, std::ios::binary);
+  int32_t version[3] = {0, 0, 0};
+  in.read(reinterpret_cast<char*>(version), sizeof(version));
+  if (!in)
+    throw InputError(weights_path +
+                     ": truncated darknet weights header (expected 3 int32 version fields)");
+  const bool wide_seen =
+      version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
+  return sizeof(version) + (wide_seen ? 8 : 4);
+}
+
+size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_bytes) {
+  size_t floats = 0;
+  for (const DarknetConv& conv : DarknetConvolutions(ReadDarknetCfg(cfg_path), cfg_path))
+    floats += conv.Floats();
+  return header_bytes + floats * sizeof(float);
+}
+
+DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::string& weights_path,
+                                   const std::vector<int>& keep) {
+  const std::vector<DarknetSection> sections = ReadDarknetCfg(cfg_path);
+  const std::vector<DarknetConv> convs = DarknetConvolutions(sections, cfg_path);
+  const size_t header = DarknetWeightsHeaderBytes(weights_path);
+  if (std::filesystem::file_size(weights_path) != DarknetExpectedWeightBytes(cfg_path, header)) {
+    throw InputError(weights_path + ": size does not match " + cfg_path);
+  }
+  if (keep.empty()) throw InputError(cfg_path + ": class pruning needs at least one class to keep");
+  for (size_t k = 1; k < keep.size(); ++k) {
+    if (keep[k] <= keep[k - 1])
+      throw InputError(cfg_path + ": kept class indices must be strictly increasing");
+  }
+  // Each [yolo] head and the convolution feeding it: per anchor, which of its outputs stay.
+  std::map<size_t, std::vector<int>> kept_outputs;  // conv section -> kept output channels
+  std::map<size_t, int> heads;                      // yolo section -> its class count
+  for (size_t i = 1; i < sections.size(); ++i) {
+    if (sections[i].type != "yolo") continue;
+    const DarknetSection& yolo = sections[i];
+    const int classes = IntValue(yolo, "classes", 20, cfg_path);
+    const int anchors = HeadAnchors(yolo, cfg_path);
+    if (keep.back() >= classes) {
+      throw InputErrorAt(cfg_path, yolo.line,
+                         "class index " + std::to_string(keep.back()) +
+                             " to keep, but the head has " + std::to_string(classes) + " classes");
+    }
+    const DarknetSection& before = sections[i - 1];
+    const int expected = anchors * (5 + classes);
+    if (before.type != "convolutional" || IntValue(before, "filters", 1, cfg_path) != expected) {
+      throw InputErrorAt(cfg_path, yolo.line,
+                         "[yolo] head not fed by a [convolutional] of filters = " +
+                             std::to_string(anchors) + " x (5 + " + std::to_string(classes) +
+                             ") = " + std::to_string(expected) + "; cannot prune its classes");
+    }
+    std::vector<int> outputs;
+    for (int a = 0; a < anchors; ++a) {
+      const int base = a * (5 + classes);
+      for (int c = 0; c < 5; ++c) outputs.push_back(base + c);
+      for (int k : keep) outputs.push_back(base + 5 + k);
+    }
+    kept_outputs[i - 1] = outputs;
+    heads[i] = classes;
+  }
+  if (heads.empty()) throw InputError(cfg_path + ": no [yolo] head to prune");
+
+  DarknetBuffers out;
+  // The cfg: filters= of the head convolutions and classes= of the heads rewritten, all else as is.
+  {
+    std::ifstream in(cfg_path);
+    std::string line;
+    int section = -1;
+    while (std::getline(in, line)) {
+      const std::string bare = Trim(line.substr(0, line.find('#')));
+      if (!bare.empty() && bare.front() == '[') ++section;
+      const size_t eq = bare.find('=');
+      const std::string key = eq == std::string::npos ? "" : Trim(bare.substr(0, eq));
+      const size_t s = static_cast<size_t>(std::max(section, 0));
+      if (key == "filters" && kept_outputs.count(s)) {
+        line = "filters=" + std::to_string(kept_outputs[s].size());
+      } else if (key == "classes" && heads.count(s)) {
+        line = "classes=" + std::to_string(keep.size());
+      }
+      out.cfg += line + "\n";
+    }
+  }
+  // The weights: every layer copied, the head convolutions' per-filter arrays and kernels sliced.
+  std::ifstream in(weights_path, std::ios::binary);
+  std::vector<char> file(std::filesystem::file_size(weights_path));
+  in.read(file.data(), static_cast<std::streamsize>(file.size()));
+  if (!in) throw InputError(weights_path + ": cannot read the darknet weights");
+  out.weights.assign(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(header));
+  const float* src = reinterpret_cast<const float*>(file.data() + header);
+  std::vector<float> floats;
+  for (const DarknetConv& conv : convs) {
+    auto it = kept_outputs.find(conv.section);
+    if (it == kept_outputs.end()) {
+      floats.insert(floats.end(), src, src + conv.Floats());
+    } else {
+      const int arrays = conv.batch_normalize ? 4 : 1;  // biases [, scales, means, variances]
+      for (int a = 0; a < arrays; ++a) {
+        for (int f : it->second) floats.push_back(src[static_cast<size_t>(a) * conv.filters + f]);
+      }
+      const float* kernels = src + static_cast<size_t>(arrays) * conv.filters;
+      const size_t kf = conv.KernelFloats();
+      for (int f : it->second)
+        floats.insert(floats.end(), kernels + f * kf, kernels + (f + 1) * kf);
+    }
+    src += conv.Floats();
+  }
+  const size_t bytes = floats.size() * sizeof(float);
+  out.weights.resize(header + bytes);
+  std::memcpy(out.weights.data() + header, floats.data(), bytes);
+  return out;
+}
+
+}  // namespace dynorb

@@ -1,0 +1,134 @@
+// Darknet cfg/weights layout and class pruning on a constructed model (exact values), loaded by
+// OpenCV DNN: the pruned network's outputs are the full network's kept columns.
+#include "dynorb/dynamic/darknet_model.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/dnn.hpp>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
+
+namespace dynorb {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ExpectInputError;
+
+// A 32 x 32 network: a 3x3 batch-normalised convolution (4 filters, stride 2), a 1x1 head of
+// 2 anchors x (5 + 3 classes) = 16 filters, one [yolo] layer.
+std::string TinyCfg(int head_filters = 16) {
+  return "[net]\nwidth=32\nheight=32\nchannels=3\n\n"
+         "[convolutional]\nbatch_normalize=1\nfilters=4\nsize=3\nstride=2\npad=1\nactivation="
+         "leaky\n\n"
+         "# the head\n[convolutional]\nsize=1\nstride=1\npad=1\nfilters=" +
+         std::to_string(head_filters) +
+         "\nactivation=linear\n\n"
+         "[yolo]\nmask = 0,1\nanchors = 4,6, 10,12\nclasses=3\nnum=2\n";
+}
+
+// Header (version 0.2.0, 8-byte seen) and floats 0.01 * i (variances positive).
+std::vector<float> WriteTinyModel(const fs::path& dir, const std::string& cfg, size_t floats) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "tiny.cfg") << cfg;
+  std::vector<float> values(floats);
+  for (size_t i = 0; i < floats; ++i) values[i] = 0.01f * static_cast<float>(i % 97) - 0.3f;
+  for (size_t i = 12; i < 16; ++i) values[i] = 0.5f + 0.1f * static_cast<float>(i);  // BN variances
+  std::ofstream out(dir / "tiny.weights", std::ios::binary);
+  const int32_t version[3] = {0, 2, 0};
+  const int64_t seen = 0;
+  out.write(reinterpret_cast<const char*>(version), sizeof(version));
+  out.write(reinterpret_cast<const char*>(&seen), sizeof(seen));
+  out.write(reinterpret_cast<const char*>(values.data()),
+            static_cast<std::streamsize>(floats * sizeof(float)));
+  return values;
+}
+
+// conv 1: 4 x (bias, scale, mean, var) + 4 x 3 x 3 x 3; head: 16 biases + 16 x 4 kernels.
+constexpr size_t kConv1Floats = 16 + 108;
+constexpr size_t kHeadFloats = 16 + 64;
+
+TEST(DarknetModel, LayoutAndExpectedSize) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_layout";
+  WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
+  const std::string cfg = (dir / "tiny.cfg").string();
+  const auto convs = DarknetConvolutions(ReadDarknetCfg(cfg), cfg);
+  ASSERT_EQ(convs.size(), 2u);
+  EXPECT_EQ(convs[0].Floats(), kConv1Floats);
+  EXPECT_EQ(convs[1].in_channels, 4);
+  EXPECT_EQ(convs[1].Floats(), kHeadFloats);
+  const size_t header = DarknetWeightsHeaderBytes((dir / "tiny.weights").string());
+  EXPECT_EQ(header, 20u);
+  EXPECT_EQ(DarknetExpectedWeightBytes(cfg, header), fs::file_size(dir / "tiny.weights"));
+  fs::remove_all(dir);
+}
+
+TEST(DarknetModel, PrunedHeadKeepsBoxObjectnessAndTheKeptClasses) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_prune";
+  const std::vector<float> values = WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
+  const std::string cfg = (dir / "tiny.cfg").string(), weights = (dir / "tiny.weights").string();
+  const DarknetBuffers pruned = PruneDarknetClasses(cfg, weights, {0, 2});
+  EXPECT_NE(pruned.cfg.find("filters=14\n"), std::string::npos);  // 2 x (5 + 2)
+  EXPECT_NE(pruned.cfg.find("classes=2\n"), std::string::npos);
+  EXPECT_NE(pruned.cfg.find("filters=4\n"), std::string::npos);  // the first layer untouched
+  ASSERT_EQ(pruned.weights.size(), 20 + (kConv1Floats + 14 + 14 * 4) * sizeof(float));
+  const float* w = reinterpret_cast<const float*>(pruned.weights.data() + 20);
+  for (size_t i = 0; i < kConv1Floats; ++i) ASSERT_EQ(w[i], values[i]);
+  // Head outputs kept: anchor 0 -> 0..4, 5, 7; anchor 1 -> 8..12, 13, 15.
+  const int kept[14] = {0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 13, 15};
+  const float* head = values.data() + kConv1Floats;
+  for (int k = 0; k < 14; ++k) {
+    EXPECT_EQ(w[kConv1Floats + k], head[kept[k]]) << "bias " << k;
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_EQ(w[kConv1Floats + 14 + 4 * k + c], head[16 + 4 * kept[k] + c]) << "kernel " << k;
+    }
+  }
+
+  // OpenCV DNN runs both; the pruned rows are the full rows' box, objectness and kept classes.
+  cv::dnn::Net full = cv::dnn::readNetFromDarknet(cfg, weights);
+  cv::dnn::Net cut = cv::dnn::readNetFromDarknet(pruned.cfg.data(), pruned.cfg.size(),
+                                                 pruned.weights.data(), pruned.weights.size());
+  cv::Mat image(32, 32, CV_32FC3);
+  cv::randu(image, 0.f, 1.f);
+  const cv::Mat blob = cv::dnn::blobFromImage(image);
+  full.setInput(blob);
+  cut.setInput(blob);
+  const cv::Mat a = full.forward().clone(), b = cut.forward().clone();
+  ASSERT_EQ(a.rows, b.rows);
+  ASSERT_EQ(a.cols, 8);
+  ASSERT_EQ(b.cols, 7);
+  double worst = 0.0, largest_score = 0.0;
+  for (int r = 0; r < a.rows; ++r) {
+    const int columns[7] = {0, 1, 2, 3, 4, 5, 7};
+    for (int c = 0; c < 7; ++c) {
+      worst = std::max(
+          worst, std::abs(static_cast<double>(a.at<float>(r, columns[c]) - b.at<float>(r, c))));
+    }
+    largest_score = std::max(largest_score, static_cast<double>(a.at<float>(r, 7)));
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(largest_score, 0.0) << "the comparison must see non-zero class scores";
+  fs::remove_all(dir);
+}
+
+TEST(DarknetModel, PruningBadInputIsAClearError) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_prune_bad";
+  WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
+  const std::string cfg = (dir / "tiny.cfg").string(), weights = (dir / "tiny.weights").string();
+  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {3}); }, "head has 3 classes");
+  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {2, 1}); }, "strictly increasing");
+  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {}); }, "at least one class");
+  // A head whose convolution does not have anchors x (5 + classes) filters.
+  WriteTinyModel(dir, TinyCfg(12), kConv1Floats + 12 + 48);
+  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {0}); }, "cannot prune");
+  // Weights of another size than the cfg describes.
+  WriteTinyModel(dir, TinyCfg(), kConv1Floats);
+  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {0}); }, "does not match");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dynorb
