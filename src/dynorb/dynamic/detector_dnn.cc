@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/timer.h"
