@@ -16,7 +16,7 @@ namespace {
 // of session 37 that was 0.8 ms of plain mode's 6.7 ms per frame (docs/slam_core.md, "Speed").
 // The cost: the resident size stays at its peak, which a SLAM run reaches early anyway.
 void KeepFreedMemory() {
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's upper limit for this setting
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // blocks up to 32 MB come from the heaps
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
 

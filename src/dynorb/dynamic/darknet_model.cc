@@ -160,7 +160,8 @@ size_t DarknetExpectedWeightBytes(const std::string& cfg_path, size_t header_byt
 }
 
 DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::string& weights_path,
-                                   const std::vector<int>& keep) {
+                                   const std::vector<int>& keep, int names_classes,
+                                   const std::string& names_path) {
   const std::vector<DarknetSection> sections = ReadDarknetCfg(cfg_path);
   const std::vector<DarknetConv> convs = DarknetConvolutions(sections, cfg_path);
   const size_t header = DarknetWeightsHeaderBytes(weights_path);
@@ -168,6 +169,7 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
     throw InputError(weights_path + ": size does not match " + cfg_path);
   }
   if (keep.empty()) throw InputError(cfg_path + ": class pruning needs at least one class to keep");
+  if (keep.front() < 0) throw InputError(cfg_path + ": kept class indices must not be negative");
   for (size_t k = 1; k < keep.size(); ++k) {
     if (keep[k] <= keep[k - 1])
       throw InputError(cfg_path + ": kept class indices must be strictly increasing");
@@ -180,6 +182,14 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
     const DarknetSection& yolo = sections[i];
     const int classes = IntValue(yolo, "classes", 20, cfg_path);
     const int anchors = HeadAnchors(yolo, cfg_path);
+    if (classes < 1 || classes > 100000 || anchors < 1 || anchors > 1000) {
+      throw InputErrorAt(cfg_path, yolo.line, "[yolo] classes or anchor count out of range");
+    }
+    if (classes != names_classes) {
+      throw InputErrorAt(cfg_path, yolo.line,
+                         "the head predicts " + std::to_string(classes) + " classes, but " +
+                             names_path + " names " + std::to_string(names_classes));
+    }
     if (keep.back() >= classes) {
       throw InputErrorAt(cfg_path, yolo.line,
                          "class index " + std::to_string(keep.back()) +

@@ -54,9 +54,11 @@ struct DarknetBuffers {
 // keeps, per anchor, its 4 box + 1 objectness outputs and the kept classes' outputs (biases and
 // kernels sliced), and the head's `classes` becomes keep.size(). Darknet [yolo] scores each class
 // with its own logistic, so the kept classes' scores are exactly those of the full model.
-// Throws InputError when a head does not have the layout mask count x (5 + classes), or a
-// kept index is out of range.
+// `names_classes`: the number of classes in the model's names file (`names_path`, for messages);
+// every head must predict that many. Throws InputError when it does not, when a head does not
+// have the layout mask count x (5 + classes), or when a kept index is out of range.
 DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::string& weights_path,
-                                   const std::vector<int>& keep);
+                                   const std::vector<int>& keep, int names_classes,
+                                   const std::string& names_path);
 
 }  // namespace dynorb

@@ -70,7 +70,7 @@ TEST(DarknetModel, PrunedHeadKeepsBoxObjectnessAndTheKeptClasses) {
   const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_prune";
   const std::vector<float> values = WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
   const std::string cfg = (dir / "tiny.cfg").string(), weights = (dir / "tiny.weights").string();
-  const DarknetBuffers pruned = PruneDarknetClasses(cfg, weights, {0, 2});
+  const DarknetBuffers pruned = PruneDarknetClasses(cfg, weights, {0, 2}, 3, "tiny.names");
   EXPECT_NE(pruned.cfg.find("filters=14\n"), std::string::npos);  // 2 x (5 + 2)
   EXPECT_NE(pruned.cfg.find("classes=2\n"), std::string::npos);
   EXPECT_NE(pruned.cfg.find("filters=4\n"), std::string::npos);  // the first layer untouched
@@ -118,15 +118,21 @@ TEST(DarknetModel, PruningBadInputIsAClearError) {
   const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_prune_bad";
   WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
   const std::string cfg = (dir / "tiny.cfg").string(), weights = (dir / "tiny.weights").string();
-  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {3}); }, "head has 3 classes");
-  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {2, 1}); }, "strictly increasing");
-  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {}); }, "at least one class");
+  auto prune = [&](const std::vector<int>& keep, int names = 3) {
+    PruneDarknetClasses(cfg, weights, keep, names, "tiny.names");
+  };
+  ExpectInputError([&] { prune({3}); }, "head has 3 classes");
+  ExpectInputError([&] { prune({-1, 0}); }, "must not be negative");
+  ExpectInputError([&] { prune({2, 1}); }, "strictly increasing");
+  ExpectInputError([&] { prune({}); }, "at least one class");
+  // A names file of another length than the heads' classes would shift every class id.
+  ExpectInputError([&] { prune({0}, 4); }, "predicts 3 classes, but tiny.names names 4");
   // A head whose convolution does not have anchors x (5 + classes) filters.
   WriteTinyModel(dir, TinyCfg(12), kConv1Floats + 12 + 48);
-  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {0}); }, "cannot prune");
+  ExpectInputError([&] { prune({0}); }, "cannot prune");
   // Weights of another size than the cfg describes.
   WriteTinyModel(dir, TinyCfg(), kConv1Floats);
-  ExpectInputError([&] { PruneDarknetClasses(cfg, weights, {0}); }, "does not match");
+  ExpectInputError([&] { prune({0}); }, "does not match");
   fs::remove_all(dir);
 }
 

@@ -80,6 +80,15 @@ std::string ResolveModelsDir(const std::string& flag) {
   return "models";
 }
 
+std::string CanonicalClassName(const std::string& name) {
+  static const std::map<std::string, std::string> aliases = {
+      {"motorcycle", "motorbike"}, {"airplane", "aeroplane"},       {"couch", "sofa"},
+      {"tv", "tvmonitor"},         {"dining table", "diningtable"}, {"potted plant", "pottedplant"},
+      {"body", "person"}};
+  auto it = aliases.find(name);
+  return it == aliases.end() ? name : it->second;
+}
+
 const std::vector<std::string>& CocoClassNames() {
   static const std::vector<std::string> names = {
       "person", "bicycle", "car", "motorbike", "aeroplane", "bus", "train", "truck", "boat",
@@ -158,8 +167,9 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
   std::vector<int> keep;  // indices of the asked classes
   if (!options_.classes.empty()) {
     for (size_t i = 0; i < class_names_.size(); ++i) {
-      if (std::find(options_.classes.begin(), options_.classes.end(), class_names_[i]) !=
-          options_.classes.end()) {
+      const std::string name = CanonicalClassName(class_names_[i]);
+      if (std::any_of(options_.classes.begin(), options_.classes.end(),
+                      [&](const std::string& c) { return CanonicalClassName(c) == name; })) {
         keep.push_back(static_cast<int>(i));
       }
     }
@@ -173,7 +183,8 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
   try {
     if (prune) {
       const DarknetBuffers model =
-          PruneDarknetClasses((fs::path(folder) / spec_.config_file).string(), model_path, keep);
+          PruneDarknetClasses((fs::path(folder) / spec_.config_file).string(), model_path, keep,
+                              static_cast<int>(class_names_.size()), names_path);
       net_ = cv::dnn::readNetFromDarknet(model.cfg.data(), model.cfg.size(), model.weights.data(),
                                          model.weights.size());
       std::vector<std::string> kept;

@@ -39,6 +39,10 @@ const ModelSpec& FindModelSpec(const std::string& name);
 // the working directory) when it exists, else the shared/models beside this source checkout when
 // it exists, else models/.
 std::string ResolveModelsDir(const std::string& flag);
+// One spelling per class: COCO's and darknet's aliases (motorcycle = motorbike, airplane =
+// aeroplane, couch = sofa, tv = tvmonitor, dining table = diningtable, potted plant =
+// pottedplant) and the body model's "body" map to the names of the models' names files.
+std::string CanonicalClassName(const std::string& name);
 // The 80 COCO class names in the order of the models' outputs.
 const std::vector<std::string>& CocoClassNames();
 
@@ -50,10 +54,10 @@ struct DetectorOptions {
   // Network input size in pixels; 0 x 0 = the model's own (SOURCE.txt). Darknet models only
   // (fully convolutional): multiples of 32, e.g. 320 x 256 for 4:3 images instead of 320 x 320.
   int input_width = 0, input_height = 0;
-  // Only these classes are detected (names of the model's names file, "body" read as "person";
-  // empty = all): a box takes the best-scoring of them. A darknet model then runs with its [yolo]
-  // heads cut to them (`prune_heads`, PruneDarknetClasses: the same scores, less work); the ONNX
-  // graphs run whole and their other classes are ignored.
+  // Only these classes are detected (names as CanonicalClassName spells them; empty = all): a box
+  // takes the best-scoring of them. A darknet model then runs with its [yolo] heads cut to them
+  // (`prune_heads`, PruneDarknetClasses: the same scores, less work); the ONNX graphs run whole and
+  // their other classes are ignored.
   std::vector<std::string> classes;
   bool prune_heads = true;
   void Validate() const;

@@ -1,7 +1,6 @@
 #include "dynorb/dynamic/semantic_filter.h"
 
 #include <algorithm>
-#include <map>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -13,14 +12,6 @@ namespace dynorb {
 namespace {
 
 constexpr int kCarryWindowRadius = 10;  // Half the 21 px LK window, in full-resolution pixels.
-
-std::string Canonical(const std::string& name) {
-  static const std::map<std::string, std::string> aliases = {
-      {"motorcycle", "motorbike"}, {"airplane", "aeroplane"}, {"couch", "sofa"}, {"tv", "tvmonitor"},
-      {"dining table", "diningtable"}, {"potted plant", "pottedplant"}, {"body", "person"}};
-  auto it = aliases.find(name);
-  return it == aliases.end() ? name : it->second;
-}
 
 }  // namespace
 
@@ -34,14 +25,14 @@ std::vector<bool> ResolveDynamicClasses(const std::vector<std::string>& wanted,
   const std::vector<std::string>& coco = CocoClassNames();
   std::vector<bool> dynamic(model_names.size(), false);
   for (const std::string& name : wanted) {
-    const std::string c = Canonical(name);
+    const std::string c = CanonicalClassName(name);
     if (std::find(coco.begin(), coco.end(), c) == coco.end()) {
       std::string valid;
       for (const auto& n : coco) valid += (valid.empty() ? "" : ", ") + n;
       throw InputError("semantic.classes: unknown class name '" + name + "' (expected COCO names: " + valid + ")");
     }
     for (size_t i = 0; i < model_names.size(); ++i) {
-      if (Canonical(model_names[i]) == c) dynamic[i] = true;
+      if (CanonicalClassName(model_names[i]) == c) dynamic[i] = true;
     }
   }
   return dynamic;
@@ -65,7 +56,8 @@ void SemanticOptions::Validate() const {
 DetectorOptions SemanticDetectorOptions(const SemanticOptions& options) {
   DetectorOptions detector = options.detector;
   detector.classes.clear();
-  for (const std::string& name : options.classes) detector.classes.push_back(Canonical(name));
+  for (const std::string& name : options.classes)
+    detector.classes.push_back(CanonicalClassName(name));
   return detector;
 }
 

@@ -397,6 +397,26 @@ TEST(SemanticDetector, BadModelFilesAndClassesAreClearErrors) {
   fs::copy_file(kModels + "/yolo_fastest_1.1_body/body.names", dir / "yolo_fastest_1.1_body/body.names");
   options.model = "yolo_fastest_1.1_body";
   ExpectInputError(options, "cfg/weights mismatch");
+  // A names file one class short: every class id after it would shift, cut heads or not.
+  fs::create_directories(dir / "yolo_fastest_1.1");
+  for (const char* file : {"yolo-fastest-1.1.cfg", "yolo-fastest-1.1.weights"}) {
+    fs::copy_file(kModels + "/yolo_fastest_1.1/" + file, dir / "yolo_fastest_1.1" / file);
+  }
+  {
+    std::ifstream in(kModels + "/yolo_fastest_1.1/coco.names");
+    std::ofstream out(dir / "yolo_fastest_1.1/coco.names");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line != "bicycle") out << line << "\n";
+    }
+  }
+  options.model = "yolo_fastest_1.1";
+  options.classes = {"person", "dog"};
+  ExpectInputError(options, "predicts 80 classes, but");
+  options.prune_heads = false;
+  ExpectInputError(options, "unexpected network output");
+  options.classes.clear();
+  options.prune_heads = true;
   // Corrupt ONNX.
   fs::create_directories(dir / "fastestdet");
   std::ofstream(dir / "fastestdet/FastestDet.onnx") << "not an onnx file";
