@@ -1,7 +1,6 @@
 #include "dynorb/dynamic/darknet_model.h"
 
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -165,7 +164,9 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
   const std::vector<DarknetSection> sections = ReadDarknetCfg(cfg_path);
   const std::vector<DarknetConv> convs = DarknetConvolutions(sections, cfg_path);
   const size_t header = DarknetWeightsHeaderBytes(weights_path);
-  if (std::filesystem::file_size(weights_path) != DarknetExpectedWeightBytes(cfg_path, header)) {
+  size_t floats = 0;
+  for (const DarknetConv& conv : convs) floats += conv.Floats();
+  if (std::filesystem::file_size(weights_path) != header + floats * sizeof(float)) {
     throw InputError(weights_path + ": size does not match " + cfg_path);
   }
   if (keep.empty()) throw InputError(cfg_path + ": class pruning needs at least one class to keep");
@@ -236,31 +237,30 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
   }
   // The weights: every layer copied, the head convolutions' per-filter arrays and kernels sliced.
   std::ifstream in(weights_path, std::ios::binary);
-  std::vector<char> file(std::filesystem::file_size(weights_path));
+  std::vector<char> file(header + floats * sizeof(float));
   in.read(file.data(), static_cast<std::streamsize>(file.size()));
   if (!in) throw InputError(weights_path + ": cannot read the darknet weights");
   out.weights.assign(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(header));
+  auto append = [&out](const float* from, size_t count) {
+    const char* bytes = reinterpret_cast<const char*>(from);
+    out.weights.insert(out.weights.end(), bytes, bytes + count * sizeof(float));
+  };
   const float* src = reinterpret_cast<const float*>(file.data() + header);
-  std::vector<float> floats;
   for (const DarknetConv& conv : convs) {
     auto it = kept_outputs.find(conv.section);
     if (it == kept_outputs.end()) {
-      floats.insert(floats.end(), src, src + conv.Floats());
+      append(src, conv.Floats());
     } else {
       const int arrays = conv.batch_normalize ? 4 : 1;  // biases [, scales, means, variances]
       for (int a = 0; a < arrays; ++a) {
-        for (int f : it->second) floats.push_back(src[static_cast<size_t>(a) * conv.filters + f]);
+        for (int f : it->second) append(src + static_cast<size_t>(a) * conv.filters + f, 1);
       }
       const float* kernels = src + static_cast<size_t>(arrays) * conv.filters;
       const size_t kf = conv.KernelFloats();
-      for (int f : it->second)
-        floats.insert(floats.end(), kernels + f * kf, kernels + (f + 1) * kf);
+      for (int f : it->second) append(kernels + f * kf, kf);
     }
     src += conv.Floats();
   }
-  const size_t bytes = floats.size() * sizeof(float);
-  out.weights.resize(header + bytes);
-  std::memcpy(out.weights.data() + header, floats.data(), bytes);
   return out;
 }
 

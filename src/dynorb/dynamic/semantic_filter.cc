@@ -62,18 +62,13 @@ DetectorOptions SemanticDetectorOptions(const SemanticOptions& options) {
 }
 
 DetectorMaskProvider::DetectorMaskProvider(const SemanticOptions& options)
-    : options_((options.Validate(), options)), detector_(SemanticDetectorOptions(options)) {
-  dynamic_class_ = ResolveDynamicClasses(options_.classes, detector_.class_names());
-}
+    : options_((options.Validate(), options)), detector_(SemanticDetectorOptions(options)) {}
 
 DynamicObjects DetectorMaskProvider::Masks(const MaskQuery& query) {
   DynamicObjects result;
   result.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
   const cv::Mat no_depth;
-  for (const Detection& d : detector_.Detect(*query.bgr)) {
-    if (d.class_id < 0 || d.class_id >= static_cast<int>(dynamic_class_.size()) || !dynamic_class_[d.class_id]) {
-      continue;
-    }
+  for (const Detection& d : detector_.Detect(*query.bgr)) {  // dynamic classes only
     const RefinedMask refined = AddRefinedBoxMask(d.box, query.depth_m ? *query.depth_m : no_depth,
                                                   options_.refine, 0.f, &result.mask);
     result.objects.push_back({d, refined.depth_m});

@@ -52,7 +52,7 @@ struct SemanticOptions {
 // to those classes (DetectorOptions::prune_heads).
 DetectorOptions SemanticDetectorOptions(const SemanticOptions& options);
 
-// Detector-backed provider: DnnDetector + class filter + depth refinement.
+// Detector-backed provider: DnnDetector (asked for the dynamic classes only) + depth refinement.
 class DetectorMaskProvider : public MaskProvider {
  public:
   DetectorMaskProvider(const SemanticOptions& options);
@@ -63,7 +63,6 @@ class DetectorMaskProvider : public MaskProvider {
  private:
   SemanticOptions options_;
   DnnDetector detector_;
-  std::vector<bool> dynamic_class_;
 };
 
 class SemanticFilter : public KeypointFilter {
