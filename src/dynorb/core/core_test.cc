@@ -5,6 +5,7 @@
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
 #include "dynorb/core/stats.h"
+#include "dynorb/core/text.h"
 
 namespace dynorb {
 namespace {
@@ -45,6 +46,14 @@ TEST(Stats, MatchesNumpyDefinitions) {
   EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(7.5));
   EXPECT_DOUBLE_EQ(s.p95, 3.85);
   EXPECT_EQ(Summarize({}).count, 0);
+}
+
+TEST(TrimBlanks, StripsSpacesTabsAndLineEndsOnBothSidesOnly) {
+  EXPECT_EQ(TrimBlanks("  person \t\r\n"), "person");
+  EXPECT_EQ(TrimBlanks("traffic light"), "traffic light");
+  EXPECT_EQ(TrimBlanks("\t a b \n"), "a b");
+  EXPECT_EQ(TrimBlanks(" \t\r\n"), "");
+  EXPECT_EQ(TrimBlanks(""), "");
 }
 
 }  // namespace

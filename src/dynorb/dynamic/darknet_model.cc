@@ -6,15 +6,10 @@
 #include <sstream>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/text.h"
 
 namespace dynorb {
 namespace {
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
 
 int IntValue(const DarknetSection& s, const std::string& key, int fallback,
              const std::string& path) {
@@ -35,7 +30,7 @@ std::vector<int> IntList(const std::string& text, const DarknetSection& s,
   std::string item;
   while (std::getline(in, item, ',')) {
     try {
-      out.push_back(std::stoi(Trim(item)));
+      out.push_back(std::stoi(TrimBlanks(item)));
     } catch (const std::exception&) {
       throw InputErrorAt(path, s.line,
                          "[" + s.type + "] expected a list of integers, got '" + text + "'");
@@ -61,7 +56,7 @@ std::vector<DarknetSection> ReadDarknetCfg(const std::string& path) {
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
-    line = Trim(line.substr(0, line.find('#')));
+    line = TrimBlanks(line.substr(0, line.find('#')));
     if (line.empty()) continue;
     if (line.front() == '[') {
       if (line.back() != ']')
@@ -74,7 +69,7 @@ std::vector<DarknetSection> ReadDarknetCfg(const std::string& path) {
       throw InputErrorAt(path, number,
                          "expected 'key=value' inside a [section], got '" + line + "'");
     }
-    sections.back().values[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+    sections.back().values[TrimBlanks(line.substr(0, eq))] = TrimBlanks(line.substr(eq + 1));
   }
   if (sections.empty() || sections.front().type != "net") {
     throw InputError(path + ": not a darknet cfg (expected a first [net] section)");
@@ -222,10 +217,10 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
     std::string line;
     int section = -1;
     while (std::getline(in, line)) {
-      const std::string bare = Trim(line.substr(0, line.find('#')));
+      const std::string bare = TrimBlanks(line.substr(0, line.find('#')));
       if (!bare.empty() && bare.front() == '[') ++section;
       const size_t eq = bare.find('=');
-      const std::string key = eq == std::string::npos ? "" : Trim(bare.substr(0, eq));
+      const std::string key = eq == std::string::npos ? "" : TrimBlanks(bare.substr(0, eq));
       const size_t s = static_cast<size_t>(std::max(section, 0));
       if (key == "filters" && kept_outputs.count(s)) {
         line = "filters=" + std::to_string(kept_outputs[s].size());

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/text.h"
 #include "dynorb/core/timer.h"
 #include "dynorb/dynamic/darknet_model.h"
 
@@ -19,19 +20,13 @@ const char kFetchHint[] =
     "get the models with `scripts/fetch_models.sh --dest DIR` (downloads from the upstream "
     "repositories at pinned commits and checks sha256) and pass --models DIR";
 
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
 std::vector<std::string> ReadNames(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot read the class-name file; " + kFetchHint);
   std::vector<std::string> names;
   std::string line;
   while (std::getline(in, line)) {
-    line = Trim(line);
+    line = TrimBlanks(line);
     if (!line.empty()) names.push_back(line);
   }
   if (names.empty()) throw InputError(path + ": class-name file is empty (expected one class name per line)");
@@ -206,8 +201,9 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
     }
   } catch (const cv::Exception& e) {
     throw InputError(model_path + ": OpenCV DNN cannot load this " +
-                     (spec_.family == ModelFamily::kDarknetYolo ? std::string("darknet model") : std::string("ONNX model")) +
-                     " (corrupt or wrong file?): " + Trim(e.err) + "; " + kFetchHint);
+                     (spec_.family == ModelFamily::kDarknetYolo ? std::string("darknet model")
+                                                                : std::string("ONNX model")) +
+                     " (corrupt or wrong file?): " + TrimBlanks(e.err) + "; " + kFetchHint);
   }
   if (net_.empty()) throw InputError(model_path + ": OpenCV DNN loaded an empty network; " + kFetchHint);
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
@@ -219,8 +215,8 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
     const cv::Mat probe(spec_.input, CV_8UC3, cv::Scalar(114, 114, 114));
     Decode(Forward(probe, &t), t, probe.size());
   } catch (const cv::Exception& e) {
-    throw InputError(model_path + ": inference failed (" + Trim(e.err) + "); expected the " + spec_.name +
-                     " model described in its SOURCE.txt; " + kFetchHint);
+    throw InputError(model_path + ": inference failed (" + TrimBlanks(e.err) + "); expected the " +
+                     spec_.name + " model described in its SOURCE.txt; " + kFetchHint);
   }
 }
 
