@@ -375,6 +375,10 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       try {
         entry["stats"] = RunPipeline(request);
         entry["status"] = "ok";
+        for (const auto& warning : entry["stats"].value("warnings", nlohmann::json::array())) {
+          std::cerr << "\nbench: run " << key << " seed " << run.seed
+                    << ": warning: " << warning.get<std::string>() << "\n";
+        }
       } catch (const std::exception& e) {
         entry["status"] = "failed";
         entry["error"] = e.what();

@@ -233,6 +233,15 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
                       suite["seeds"].dump());
   r.summary.push_back("runs: " + std::to_string(ok) + " ok, " + std::to_string(failed) + " failed" +
                       (failed ? " (see results.json)" : ""));
+  // The runs' own plausibility warnings (stats.json "warnings": depth scale, initialisation).
+  for (const Json& run : results["runs"]) {
+    if (run.value("status", "") != "ok" || !run.contains("stats")) continue;
+    for (const Json& warning : run["stats"].value("warnings", Json::array())) {
+      r.summary.push_back("warning: " + run.value("sequence", std::string("?")) + " / " +
+                          run.value("mode", std::string("?")) + " seed " +
+                          std::to_string(run.value("seed", 0)) + ": " + warning.get<std::string>());
+    }
+  }
   r.summary.push_back(
       "cells: median over the repeats, [min-max] when there are several; '-' = not available");
 

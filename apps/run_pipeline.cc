@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "dynamic_labels.h"
 #include "dynorb/core/error.h"
 #include "dynorb/core/prefetcher.h"
 #include "dynorb/core/stats.h"
@@ -24,9 +25,9 @@
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
 #include "dynorb/system/system.h"
-#include "dynamic_labels.h"
 #include "preload_budget.h"
 #include "progress_bar.h"
+#include "run_checks.h"
 #include "run_modes.h"
 #include "run_report.h"
 
@@ -291,6 +292,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     cv::Mat mask, still;
   };
   std::vector<FrameMasks> deferred;
+  DepthScaleCheck depth_check;  // The first frames' depth scale (run_checks.h).
   for (size_t i = first; i < last; ++i) {
     // Frames i .. i + depth loaded (upcoming starts at frame i).
     while (upcoming.size() < depth + 1 && i + upcoming.size() < last) {
@@ -306,6 +308,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       ahead.push_back({upcoming[j].frame.timestamp_s, upcoming[j].frame.rgb, upcoming[j].frame.depth_m,
                        wants_overlay(i + 1 + j)});
     }
+    depth_check.Add(frame.depth_m);
     const FrameRecord& record = system.ProcessFrame(frame.timestamp_s, frame.rgb, frame.depth_m, ahead);
     if (masks) {
       if (cli.preload) {
@@ -351,6 +354,11 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
   }
   nlohmann::json stats = BuildRunStats(system, inputs, ate);
+  RunCheckLimits limits;
+  limits.depth_map_factor = config.camera.depth_map_factor;
+  limits.min_init_points = tracker_options.min_init_points;
+  limits.min_init_depth_points = tracker_options.min_init_depth_points;
+  stats["warnings"] = RunWarnings(depth_check, system.records(), limits);
   if (masks) {
     stats["dynamic_keypoints"] = label_stats.ToJson();
     if (masks->has_object_states()) {

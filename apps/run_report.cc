@@ -178,6 +178,10 @@ std::string FormatRunSummary(const nlohmann::json& stats) {
       out << line;
     }
   }
+  if (stats.contains("warnings")) {
+    for (const auto& warning : stats["warnings"])
+      out << "warning           " << warning.get<std::string>() << "\n";
+  }
   return out.str();
 }
 

@@ -105,6 +105,9 @@ for run in list(r["runs"]):
         if t["sequence"] == "syn_walking_rpy" and "stats" in t:
             t["stats"]["ate"]["rmse_m"] *= 0.5
         r["runs"].append(t)
+# One run's own plausibility warning (stats.json "warnings") reaches the report's summary.
+warned = next(run for run in r["runs"] if run["sequence"] == "syn_walking_rpy" and "stats" in run)
+warned["stats"]["warnings"] = ["the depth images read as 1.25e+04 m away"]
 json.dump(r, open(sys.argv[2], "w"))
 EOF
 "$DYNORB" bench --report "$DIR/pooled" >/dev/null || fail "--report pooled"
@@ -113,6 +116,9 @@ for needle in "| syn_walking_rpy | 1.75 [1.50-2.00] | 0.55 [0.50-0.60] |" \
   grep -qF -- "$needle" "$DIR/pooled/report.md" || fail "pooled report.md lacks '$needle'"
 done
 grep -qF "all sequences and seeds" "$MD" && fail "one dynamic sequence must not get a pooled row"
+[[ $(grep -c '^- warning: syn_walking_rpy / .* seed [0-9]*: the depth images read as 1.25e+04 m away$' \
+  "$DIR/pooled/report.md") == 1 ]] || fail "pooled report.md: the run's warning is not listed once"
+grep -q '^- warning:' "$MD" && fail "report.md lists a warning no run had"
 
 echo '{"format": "something else"}' >"$DIR/stored/results.json"
 err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)

@@ -292,6 +292,9 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   Stopwatch watch;
   const bool mapper_idle =
       options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
+  record->num_used = features->size();
+  for (int i = 0; i < features->size(); ++i)
+    record->num_with_depth += features->HasDepth(i) ? 1 : 0;
   Frame frame(record->id, record->timestamp_s, std::move(features));
   if (record->num_keypoints > 0)
     frame.filtered_fraction = static_cast<double>(record->num_filtered) / record->num_keypoints;

@@ -83,6 +83,8 @@ struct FrameRecord {
   int num_keypoints = 0;       // Detected.
   int num_filtered = 0;        // Removed by the keypoint filter.
   int num_refilled = 0;        // Keypoints used after the refill detection (0: no refill).
+  int num_used = 0;            // Keypoints handed to tracking (after the filter and the refill).
+  int num_with_depth = 0;      // ... of them with depth (initialisation needs enough of both).
   int num_inliers = 0;
   bool new_keyframe = false;
   bool pipelined = false;   // This frame's front end ran on the worker thread (pipelining).

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# `dynorb run` on input that reads but cannot be right (CTest: dynorb_cli_run_checks): the run
+# finishes, and its summary and stats.json carry a warning that says what to check; a good run
+# has none.
+# Usage: run_checks_test.sh path/to/dynorb
+set -uo pipefail
+DYNORB=$(realpath "${1:?usage: run_checks_test.sh path/to/dynorb}")
+DIR=$(mktemp -d)
+trap 'rm -rf "$DIR"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+"$DYNORB" synth --preset walking_xyz --frames 12 --people procedural --static-twin --out "$DIR/seq" >/dev/null 2>&1 ||
+  { echo "FAIL: synth"; exit 1; }
+SEQ="$DIR/seq_twin"
+[[ -d "$SEQ" ]] || SEQ="$DIR/seq"
+
+# count_warnings stats.json -> number of entries of its "warnings" array
+count_warnings() { grep -c '^    "' <(sed -n '/"warnings": \[/,/\]/p' "$1"); }
+
+# A good run: no warning.
+out=$("$DYNORB" run --dataset "$SEQ" --out "$DIR/good" --quiet 2>&1) || fail "good run: exit code $?"
+grep -q '^warning' <<<"$out" && fail "good run printed a warning: $out"
+grep -q '"warnings": \[\]' "$DIR/good/stats.json" || fail "good run: stats.json has no empty \"warnings\" list"
+
+# The same sequence with DepthMapFactor 1 (raw 1/5000 m units read as metres).
+sed 's/^DepthMapFactor:.*/DepthMapFactor: 1.0/' "$SEQ/camera.yaml" >"$DIR/factor1.yaml"
+out=$("$DYNORB" run --dataset "$SEQ" --config "$DIR/factor1.yaml" --out "$DIR/factor1" --quiet 2>&1) ||
+  fail "DepthMapFactor 1: exit code $?"
+grep -q '^warning  .*m away (median over the first 12 frames).*check DepthMapFactor.*now 1)' <<<"$out" ||
+  fail "DepthMapFactor 1: no depth-scale warning in the summary: $out"
+[[ $(count_warnings "$DIR/factor1/stats.json") == 1 ]] || fail "DepthMapFactor 1: stats.json should list 1 warning"
+
+if ((failures)); then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "all run checks passed"
