@@ -12,6 +12,7 @@
 
 #include "bench_plots.h"
 #include "build_id.h"
+#include "builtin_config.h"
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/synth/camera_motion.h"
@@ -268,10 +269,13 @@ BenchPlan PlanBench(const BenchOptions& options) {
       plan.warnings.push_back(message + ": skipped");
       continue;
     }
-    if (s.config.empty() && !fs::exists(folder / "camera.yaml")) {
+    if (s.config.empty() && !fs::exists(folder / "camera.yaml") &&
+        !BuiltInConfigForDataset(run.dataset)) {
       throw InputErrorAt(suite.file, s.line,
                          "sequence '" + s.name +
-                             "' has no camera.yaml: give 'config:' (e.g. config/tum_fr3.yaml)");
+                             "' has no camera.yaml and its folder is not named like a TUM "
+                             "sequence: give 'config:' (e.g. "
+                             "config/tum_fr3.yaml)");
     }
     plan.sequences.push_back(run);
   }

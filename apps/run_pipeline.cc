@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "builtin_config.h"
 #include "dynamic_labels.h"
 #include "dynorb/core/error.h"
 #include "dynorb/core/prefetcher.h"
@@ -150,10 +151,24 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                      std::to_string(cli.pipeline_depth));
   }
   std::string config_path = cli.config;
+  std::optional<BuiltInConfig>
+      builtin_config;  // A TUM folder without camera.yaml (builtin_config.h).
   if (config_path.empty()) {
     config_path = (fs::path(cli.dataset) / "camera.yaml").string();
     if (!fs::exists(config_path)) {
-      throw InputError("no --config given and the dataset has no camera.yaml (use e.g. --config config/tum_fr3.yaml)");
+      builtin_config = BuiltInConfigForDataset(cli.dataset);
+      if (!builtin_config) {
+        throw InputError(
+            "no --config given and the dataset has no camera.yaml (use e.g. --config "
+            "config/tum_fr3.yaml; a "
+            "folder named like a TUM sequence, rgbd_dataset_freiburg1/2/3_*, gets that camera's "
+            "calibration)");
+      }
+      config_path = "built-in " + builtin_config->file;
+      std::cerr << "dynorb run: " << cli.dataset << " has no camera.yaml: using the "
+                << builtin_config->camera << " calibration (" << builtin_config->file
+                << ", chosen by the folder's name); pass --config to "
+                << "use another\n";
     }
   }
   // One schema: the system keys plus the chosen mode's own section.
@@ -166,7 +181,11 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   BindSlamSections(&tracker_options, &mapper_options, &system_options, &schema);
   std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
   if (mode) mode->BindConfig(&schema);
-  schema.Load(config_path);
+  if (builtin_config) {
+    schema.LoadString(builtin_config->yaml, config_path);
+  } else {
+    schema.Load(config_path);
+  }
   TumSequence sequence(cli.dataset, config.dataset);
   const auto [first, last] = ParseRange(cli.frames, sequence.size());
   std::error_code ec;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `dynorb run` on input that reads but cannot be right (CTest: dynorb_cli_run_checks): the run
 # finishes, and its summary and stats.json carry a warning that says what to check; a good run
-# has none.
+# has none. And which calibration a folder without camera.yaml gets.
 # Usage: run_checks_test.sh path/to/dynorb
 set -uo pipefail
 DYNORB=$(realpath "${1:?usage: run_checks_test.sh path/to/dynorb}")
@@ -30,6 +30,24 @@ out=$("$DYNORB" run --dataset "$SEQ" --config "$DIR/factor1.yaml" --out "$DIR/fa
 grep -q '^warning  .*m away (median over the first 12 frames).*check DepthMapFactor.*now 1)' <<<"$out" ||
   fail "DepthMapFactor 1: no depth-scale warning in the summary: $out"
 [[ $(count_warnings "$DIR/factor1/stats.json") == 1 ]] || fail "DepthMapFactor 1: stats.json should list 1 warning"
+
+# A folder without camera.yaml named like a TUM sequence runs with that camera's built-in
+# calibration (and says so); any other such folder is an error naming the rule.
+TUM="$DIR/rgbd_dataset_freiburg3_copy"
+cp -r "$SEQ" "$TUM" && rm "$TUM/camera.yaml"
+err=$("$DYNORB" run --dataset "$TUM" --out "$DIR/tum" --quiet 2>&1 >/dev/null) || fail "TUM-named folder: exit code $?"
+grep -qF "has no camera.yaml: using the TUM RGB-D freiburg3 calibration (config/tum_fr3.yaml" <<<"$err" ||
+  fail "TUM-named folder: no note on stderr: $err"
+grep -qF '"config": "built-in config/tum_fr3.yaml"' "$DIR/tum/stats.json" || fail "TUM-named folder: stats.json config"
+grep -q '^Camera.fx: 535.4 ' "$DIR/tum/effective_config.yaml" || fail "TUM-named folder: not the freiburg3 fx"
+OTHER="$DIR/other_sequence"
+cp -r "$TUM" "$OTHER"
+err=$("$DYNORB" run --dataset "$OTHER" --out "$DIR/other" --quiet 2>&1 >/dev/null)
+code=$?
+[[ $code == 2 ]] || fail "folder without camera.yaml: exit code $code"
+grep -qF "has no camera.yaml (use e.g. --config config/tum_fr3.yaml; a folder named like a TUM sequence" <<<"$err" ||
+  fail "folder without camera.yaml: message '$err'"
+[[ ! -e "$DIR/other" ]] || fail "folder without camera.yaml: wrote output"
 
 if ((failures)); then
   echo "$failures failure(s)"

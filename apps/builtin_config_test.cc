@@ -1,0 +1,45 @@
+#include "builtin_config.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+namespace dynorb {
+namespace {
+
+std::string ReadSource(const std::string& relative) {
+  std::ifstream in(std::string(DYNORB_SOURCE_DIR) + "/" + relative);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(BuiltInConfig, TheFolderNameChoosesTheTumCameraAndTheTextIsTheCheckoutsFile) {
+  for (int k = 1; k <= 3; ++k) {
+    const std::string folder = "/data/rgbd_dataset_freiburg" + std::to_string(k) + "_walking_xyz";
+    for (const std::string& path :
+         {folder, folder + "/",
+          std::string("rgbd_dataset_freiburg") + std::to_string(k) + "_desk"}) {
+      const std::optional<BuiltInConfig> c = BuiltInConfigForDataset(path);
+      ASSERT_TRUE(c.has_value()) << path;
+      EXPECT_EQ(c->file, "config/tum_fr" + std::to_string(k) + ".yaml");
+      EXPECT_EQ(c->camera, "TUM RGB-D freiburg" + std::to_string(k));
+      const std::string source = ReadSource(c->file);
+      ASSERT_FALSE(source.empty());
+      EXPECT_EQ(c->yaml, source) << "the built-in text differs from " << c->file;
+    }
+  }
+}
+
+TEST(BuiltInConfig, NoGuessWithoutOrWithTwoCameraNames) {
+  EXPECT_FALSE(BuiltInConfigForDataset("/data/rgbd_bonn_balloon").has_value());
+  EXPECT_FALSE(BuiltInConfigForDataset("/data/office").has_value());
+  EXPECT_FALSE(BuiltInConfigForDataset("/data/freiburg1_vs_freiburg3").has_value());
+  // Only the folder's own name counts, not its parents'.
+  EXPECT_FALSE(
+      BuiltInConfigForDataset("/data/rgbd_dataset_freiburg3_walking_xyz/copy").has_value());
+}
+
+}  // namespace
+}  // namespace dynorb
