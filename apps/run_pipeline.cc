@@ -368,16 +368,26 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   for (size_t k = 0; k < deferred.size(); ++k) account(system.records()[k], deferred[k].mask, deferred[k].still);
   inputs.preload = cli.preload;
   inputs.preload_seconds = preload_seconds;
+  // Ground truth that does not fit the run (another clock, another sequence) costs the ATE, not
+  // the run's outputs: the evaluator's complaint becomes a warning.
   std::optional<EvalResult> ate;
+  std::vector<std::string> eval_warnings;
   if (sequence.HasGroundTruth() && trajectory.size() >= 3) {
-    ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
+    try {
+      ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
+      for (const std::string& w : ate->warnings) eval_warnings.push_back("groundtruth.txt: " + w);
+    } catch (const InputError& e) {
+      eval_warnings.push_back(std::string("no ATE/RPE: ") + e.what());
+    }
   }
   nlohmann::json stats = BuildRunStats(system, inputs, ate);
   RunCheckLimits limits;
   limits.depth_map_factor = config.camera.depth_map_factor;
   limits.min_init_points = tracker_options.min_init_points;
   limits.min_init_depth_points = tracker_options.min_init_depth_points;
-  stats["warnings"] = RunWarnings(depth_check, system.records(), limits);
+  std::vector<std::string> warnings = RunWarnings(depth_check, system.records(), limits);
+  warnings.insert(warnings.end(), eval_warnings.begin(), eval_warnings.end());
+  stats["warnings"] = warnings;
   if (masks) {
     stats["dynamic_keypoints"] = label_stats.ToJson();
     if (masks->has_object_states()) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "build_id.h"
+#include "dynorb/core/error.h"
 #include "dynorb/core/stats.h"
 
 namespace dynorb {
@@ -20,6 +21,16 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
   Trajectory cropped;
   for (const StampedPose& p : ground_truth) {
     if (p.timestamp_s >= begin && p.timestamp_s <= end) cropped.push_back(p);
+  }
+  if (cropped.empty() && !ground_truth.empty()) {
+    char text[256];
+    std::snprintf(
+        text, sizeof(text),
+        "groundtruth.txt has no pose within the run's frames [%.6f, %.6f]; it spans [%.6f, %.6f] "
+        "(another clock or another sequence?)",
+        records.front().timestamp_s, records.back().timestamp_s, ground_truth.front().timestamp_s,
+        ground_truth.back().timestamp_s);
+    throw InputError(text);
   }
   return EvaluateTrajectories(cropped, estimate, EvalOptions());
 }

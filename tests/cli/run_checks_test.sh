@@ -10,7 +10,7 @@ trap 'rm -rf "$DIR"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-"$DYNORB" synth --preset walking_xyz --frames 12 --people procedural --static-twin --out "$DIR/seq" >/dev/null 2>&1 ||
+"$DYNORB" synth --preset walking_xyz --frames 40 --people procedural --static-twin --out "$DIR/seq" >/dev/null 2>&1 ||
   { echo "FAIL: synth"; exit 1; }
 SEQ="$DIR/seq_twin"
 [[ -d "$SEQ" ]] || SEQ="$DIR/seq"
@@ -27,9 +27,19 @@ grep -q '"warnings": \[\]' "$DIR/good/stats.json" || fail "good run: stats.json 
 sed 's/^DepthMapFactor:.*/DepthMapFactor: 1.0/' "$SEQ/camera.yaml" >"$DIR/factor1.yaml"
 out=$("$DYNORB" run --dataset "$SEQ" --config "$DIR/factor1.yaml" --out "$DIR/factor1" --quiet 2>&1) ||
   fail "DepthMapFactor 1: exit code $?"
-grep -q '^warning  .*m away (median over the first 12 frames).*check DepthMapFactor.*now 1)' <<<"$out" ||
+grep -q '^warning  .*m away (median over the first 30 frames).*check DepthMapFactor.*now 1)' <<<"$out" ||
   fail "DepthMapFactor 1: no depth-scale warning in the summary: $out"
 [[ $(count_warnings "$DIR/factor1/stats.json") == 1 ]] || fail "DepthMapFactor 1: stats.json should list 1 warning"
+
+# Ground truth on another clock: the run keeps its outputs, without ATE, and says why.
+SHIFTED="$DIR/shifted"
+cp -r "$SEQ" "$SHIFTED"
+awk '/^#/ {print; next} {$1 = sprintf("%.6f", $1 + 1000); print}' "$SEQ/groundtruth.txt" >"$SHIFTED/groundtruth.txt"
+out=$("$DYNORB" run --dataset "$SHIFTED" --out "$DIR/shifted_out" --quiet 2>&1) || fail "shifted ground truth: exit code $?"
+grep -q "^warning  .*no ATE/RPE: groundtruth.txt has no pose within the run's frames" <<<"$out" ||
+  fail "shifted ground truth: no warning in the summary: $out"
+[[ -s "$DIR/shifted_out/trajectory.txt" ]] || fail "shifted ground truth: no trajectory.txt"
+grep -q '"ate"' "$DIR/shifted_out/stats.json" && fail "shifted ground truth: stats.json has an ATE"
 
 # A folder without camera.yaml named like a TUM sequence runs with that camera's built-in
 # calibration (and says so); any other such folder is an error naming the rule.
