@@ -274,8 +274,7 @@ BenchPlan PlanBench(const BenchOptions& options) {
       throw InputErrorAt(suite.file, s.line,
                          "sequence '" + s.name +
                              "' has no camera.yaml and its folder is not named like a TUM "
-                             "sequence: give 'config:' (e.g. "
-                             "config/tum_fr3.yaml)");
+                             "sequence: give 'config:' (e.g. config/tum_fr3.yaml)");
     }
     plan.sequences.push_back(run);
   }

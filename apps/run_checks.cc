@@ -48,9 +48,8 @@ std::vector<std::string> RunWarnings(const DepthScaleCheck& depth,
   std::vector<std::string> warnings;
   const std::string first_frames = "the first " + std::to_string(depth.frames_seen()) + " frames";
   const std::string factor_hint =
-      "check DepthMapFactor (raw depth units per metre: 5000 for TUM RGB-D, Bonn and dynorb synth, "
-      "1000 for "
-      "millimetre PNGs; now " +
+      "check DepthMapFactor (raw depth units per metre: 5000 for TUM RGB-D, Bonn and "
+      "dynorb synth, 1000 for millimetre PNGs; now " +
       Format("%g", limits.depth_map_factor) + ")";
   if (depth.frames_seen() > 0 && depth.frames_with_depth() == 0) {
     warnings.push_back(
@@ -84,10 +83,11 @@ std::vector<std::string> RunWarnings(const DepthScaleCheck& depth,
         std::to_string(best.id) + Format(" (t = %.6f s)", best.timestamp_s) + " with " +
         std::to_string(best.num_used) + " keypoints, " + std::to_string(best.num_with_depth) +
         " with depth" +
-        (best.num_used < limits.min_init_points ? "; too few keypoints: blank or textureless "
-                                                  "images, or ORBextractor.nFeatures below " +
-                                                      std::to_string(limits.min_init_points)
-                                                : "") +
+        (best.num_used < limits.min_init_points
+             ? "; too few keypoints: blank or textureless images, or ORBextractor.nFeatures "
+               "below " +
+                   std::to_string(limits.min_init_points)
+             : "") +
         (best.num_with_depth < limits.min_init_depth_points
              ? "; too little depth: check the depth images and DepthMapFactor"
              : ""));

@@ -151,8 +151,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                      std::to_string(cli.pipeline_depth));
   }
   std::string config_path = cli.config;
-  std::optional<BuiltInConfig>
-      builtin_config;  // A TUM folder without camera.yaml (builtin_config.h).
+  // A TUM sequence folder without camera.yaml: its camera's built-in calibration.
+  std::optional<BuiltInConfig> builtin_config;
   if (config_path.empty()) {
     config_path = (fs::path(cli.dataset) / "camera.yaml").string();
     if (!fs::exists(config_path)) {
@@ -160,15 +160,13 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       if (!builtin_config) {
         throw InputError(
             "no --config given and the dataset has no camera.yaml (use e.g. --config "
-            "config/tum_fr3.yaml; a "
-            "folder named like a TUM sequence, rgbd_dataset_freiburg1/2/3_*, gets that camera's "
-            "calibration)");
+            "config/tum_fr3.yaml; a folder named like a TUM sequence, "
+            "rgbd_dataset_freiburg1/2/3_*, gets that camera's calibration)");
       }
       config_path = "built-in " + builtin_config->file;
       std::cerr << "dynorb run: " << cli.dataset << " has no camera.yaml: using the "
                 << builtin_config->camera << " calibration (" << builtin_config->file
-                << ", chosen by the folder's name); pass --config to "
-                << "use another\n";
+                << ", chosen by the folder's name); pass --config to use another\n";
     }
   }
   // One schema: the system keys plus the chosen mode's own section.
