@@ -239,7 +239,8 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
     for (const Json& warning : run["stats"].value("warnings", Json::array())) {
       r.summary.push_back("warning: " + run.value("sequence", std::string("?")) + " / " +
                           run.value("mode", std::string("?")) + " seed " +
-                          std::to_string(run.value("seed", 0)) + ": " + warning.get<std::string>());
+                          std::to_string(run.value("seed", uint64_t{0})) + ": " +
+                          warning.get<std::string>());
     }
   }
   r.summary.push_back(

@@ -5,7 +5,10 @@
 namespace dynorb {
 
 std::optional<BuiltInConfig> BuiltInConfigForDataset(const std::string& dataset_folder) {
-  std::filesystem::path path = std::filesystem::path(dataset_folder).lexically_normal();
+  std::error_code ec;  // "." or "../x": the name of the folder it stands for.
+  std::filesystem::path path = std::filesystem::absolute(dataset_folder, ec);
+  if (ec) path = dataset_folder;
+  path = path.lexically_normal();
   if (path.filename().empty()) path = path.parent_path();  // "DIR/" -> "DIR".
   const std::string name = path.filename().string();
   const char* const texts[] = {builtin_config_internal::kTumFreiburg1Yaml,

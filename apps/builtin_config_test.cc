@@ -1,5 +1,8 @@
 #include "builtin_config.h"
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -30,6 +33,21 @@ TEST(BuiltInConfig, TheFolderNameChoosesTheTumCameraAndTheTextIsTheCheckoutsFile
       EXPECT_EQ(c->yaml, source) << "the built-in text differs from " << c->file;
     }
   }
+}
+
+TEST(BuiltInConfig, RelativeNamesStandForTheFolderTheyName) {
+  EXPECT_EQ(BuiltInConfigForDataset("/data/rgbd_dataset_freiburg2_desk/sub/..")->file,
+            "config/tum_fr2.yaml");
+  const std::filesystem::path before = std::filesystem::current_path();
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() /
+                                       ("rgbd_dataset_freiburg1_cwd_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  std::filesystem::current_path(folder);
+  const std::optional<BuiltInConfig> here = BuiltInConfigForDataset(".");
+  std::filesystem::current_path(before);
+  std::filesystem::remove_all(folder);
+  ASSERT_TRUE(here.has_value());
+  EXPECT_EQ(here->file, "config/tum_fr1.yaml");
 }
 
 TEST(BuiltInConfig, NoGuessWithoutOrWithTwoCameraNames) {

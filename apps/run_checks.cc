@@ -53,9 +53,9 @@ std::vector<std::string> RunWarnings(const DepthScaleCheck& depth,
       Format("%g", limits.depth_map_factor) + ")";
   if (depth.frames_seen() > 0 && depth.frames_with_depth() == 0) {
     warnings.push_back(
-        "no valid depth in " + first_frames +
-        " (every depth pixel is 0): RGB-D SLAM needs depth; check that depth.txt (or "
-        "associations.txt) lists the depth images and that they are 16-bit PNGs");
+        "no valid depth (> 0) in the sampled pixels of " + first_frames +
+        ": RGB-D SLAM needs depth; check that depth.txt (or associations.txt) lists the depth "
+        "images and that they are 16-bit PNGs");
   } else if (depth.frames_with_depth() > 0) {
     const double median = depth.median_depth_m();
     if (median > limits.max_median_depth_m || median < limits.min_median_depth_m) {
@@ -80,14 +80,16 @@ std::vector<std::string> RunWarnings(const DepthScaleCheck& depth,
         "the map was never initialised: a frame needs at least " +
         std::to_string(limits.min_init_points) + " keypoints of which " +
         std::to_string(limits.min_init_depth_points) + " with depth; the closest was frame " +
-        std::to_string(best.id) + Format(" (t = %.6f s)", best.timestamp_s) + " with " +
-        std::to_string(best.num_used) + " keypoints, " + std::to_string(best.num_with_depth) +
-        " with depth" +
-        (best.num_used < limits.min_init_points
-             ? "; too few keypoints: blank or textureless images, or ORBextractor.nFeatures "
+        std::to_string(limits.first_frame + best.id) + Format(" (t = %.6f s)", best.timestamp_s) +
+        " with " + std::to_string(best.num_used) + " keypoints, " +
+        std::to_string(best.num_with_depth) + " with depth" +
+        (best.num_used >= limits.min_init_points ? std::string()
+         : best.num_keypoints >= limits.min_init_points
+             ? "; the keypoint filter removed " + std::to_string(best.num_filtered) + " of its " +
+                   std::to_string(best.num_keypoints) + " keypoints"
+             : "; too few keypoints: blank or textureless images, or ORBextractor.nFeatures "
                "below " +
-                   std::to_string(limits.min_init_points)
-             : "") +
+                   std::to_string(limits.min_init_points)) +
         (best.num_with_depth < limits.min_init_depth_points
              ? "; too little depth: check the depth images and DepthMapFactor"
              : ""));

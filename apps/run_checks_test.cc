@@ -76,7 +76,8 @@ TEST(RunWarnings, NoDepthAtAllAndNeverInitialisedSayWhatToCheck) {
   const std::vector<FrameRecord> records = {Record(0, 1000, 0), Record(1, 1000, 0)};
   const std::vector<std::string> w = RunWarnings(none, records, RunCheckLimits());
   ASSERT_EQ(w.size(), 2u);
-  EXPECT_TRUE(Mentions(w, "no valid depth in the first 3 frames")) << w[0];
+  EXPECT_TRUE(Mentions(w, "no valid depth (> 0) in the sampled pixels of the first 3 frames"))
+      << w[0];
   EXPECT_TRUE(Mentions(
       w,
       "the map was never initialised: a frame needs at least 500 keypoints of which 100 with "
@@ -102,6 +103,23 @@ TEST(RunWarnings, NeverInitialisedNamesTheFrameClosestToTheRule) {
   later.push_back(Record(4, 900, 500, TrackingState::kOk));
   EXPECT_TRUE(RunWarnings(check, later, RunCheckLimits()).empty());
   EXPECT_TRUE(RunWarnings(DepthScaleCheck(), {}, RunCheckLimits()).empty());
+}
+
+TEST(RunWarnings, NeverInitialisedBecauseOfTheFilterSaysSoInDatasetFrameNumbers) {
+  DepthScaleCheck check;
+  check.Add(Depth(2.0f));
+  FrameRecord r = Record(2, 300, 250);
+  r.num_keypoints = 1000;  // The filter removed 700: what is left is below the rule.
+  r.num_filtered = 700;
+  RunCheckLimits limits;
+  limits.first_frame = 100;  // --frames 100:...
+  const std::vector<std::string> w = RunWarnings(check, {r}, limits);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_TRUE(Mentions(w,
+                       "the closest was frame 102 (t = 102.000000 s) with 300 keypoints, 250 with "
+                       "depth; the keypoint filter removed 700 of its 1000 keypoints"))
+      << w[0];
+  EXPECT_FALSE(Mentions(w, "too few keypoints")) << w[0];
 }
 
 TEST(RunWarnings, TooFewKeypointsPointsAtTheImagesAndTheFeatureCount) {

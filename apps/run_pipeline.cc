@@ -373,7 +373,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   if (sequence.HasGroundTruth() && trajectory.size() >= 3) {
     try {
       ate = EvaluateAgainstGroundTruth(sequence.ground_truth(), trajectory, system.records());
-      for (const std::string& w : ate->warnings) eval_warnings.push_back("groundtruth.txt: " + w);
+      for (const std::string& w : ate->warnings) eval_warnings.push_back("evaluation: " + w);
     } catch (const InputError& e) {
       eval_warnings.push_back(std::string("no ATE/RPE: ") + e.what());
     }
@@ -383,6 +383,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   limits.depth_map_factor = config.camera.depth_map_factor;
   limits.min_init_points = tracker_options.min_init_points;
   limits.min_init_depth_points = tracker_options.min_init_depth_points;
+  limits.first_frame = first;
   std::vector<std::string> warnings = RunWarnings(depth_check, system.records(), limits);
   warnings.insert(warnings.end(), eval_warnings.begin(), eval_warnings.end());
   stats["warnings"] = warnings;

@@ -38,17 +38,21 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
   result.est_poses = static_cast<int>(est.size());
 
   const std::vector<IndexPair> pairs = AssociateTrajectories(gt, est, options.association);
+  const std::string max_diff_name = options.cli_hints ? "--max-diff " : "";
   if (pairs.empty()) {
-    throw InputError(Format(
-        "no estimate pose has a ground-truth pose within --max-diff %.4g s: ground truth spans "
-        "[%.6f, %.6f], estimate spans [%.6f, %.6f] (offset %g s). Wrong files, or a time offset?",
-        options.association.max_diff_s, gt.front().timestamp_s, gt.back().timestamp_s,
-        est.front().timestamp_s, est.back().timestamp_s, options.association.offset_s));
+    throw InputError(
+        "no estimate pose has a ground-truth pose within " + max_diff_name +
+        Format("%.4g s: ground truth spans [%.6f, %.6f], estimate spans [%.6f, %.6f] (offset %g "
+               "s). Wrong files, or a time offset?",
+               options.association.max_diff_s, gt.front().timestamp_s, gt.back().timestamp_s,
+               est.front().timestamp_s, est.back().timestamp_s, options.association.offset_s));
   }
   if (options.alignment != AlignmentMode::kNone && pairs.size() < 3) {
-    throw InputError("only " + std::to_string(pairs.size()) + " associated pose pair(s); --align " +
-                     ToString(options.alignment) +
-                     " needs at least 3 (check --max-diff, or use --align none)");
+    throw InputError("only " + std::to_string(pairs.size()) + " associated pose pair(s); " +
+                     (options.cli_hints
+                          ? "--align " + std::string(ToString(options.alignment)) +
+                                " needs at least 3 (check --max-diff, or use --align none)"
+                          : "the alignment needs at least 3"));
   }
   result.ate = ComputeAte(gt, est, pairs, options.alignment);
 
@@ -75,9 +79,10 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
   }
   const int unmatched = result.est_poses - static_cast<int>(pairs.size());
   if (unmatched > 0 && unmatched * 20 > result.est_poses) {
-    result.warnings.push_back(
-        std::to_string(unmatched) + " of " + std::to_string(result.est_poses) +
-        " estimate poses have no ground truth within --max-diff and are ignored");
+    result.warnings.push_back(std::to_string(unmatched) + " of " +
+                              std::to_string(result.est_poses) +
+                              " estimate poses have no ground truth within " + max_diff_name +
+                              Format("%.4g s and are ignored", options.association.max_diff_s));
   }
   if (result.rpe.pairs.empty()) {
     result.warnings.push_back(

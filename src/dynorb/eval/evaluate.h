@@ -20,6 +20,9 @@ struct EvalOptions {
   double rpe_delta_s = 1.0;                       // --rpe-delta
   double coverage_window_s = 0.05;                // see coverage.h
   double coverage_warning_below = 0.95;           // warn when coverage fraction is lower
+  // Messages name `dynorb eval`'s options (--max-diff, --align) as what to change; false: the
+  // same facts without them (the evaluation inside `dynorb run`, which has no such options).
+  bool cli_hints = true;
   void Validate() const;                          // throws InputError
 };
 
