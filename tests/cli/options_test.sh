@@ -3,11 +3,7 @@
 # non-zero with a message naming the option and what it expects, and writes nothing.
 # Usage: options_test.sh path/to/dynorb
 set -uo pipefail
-DYNORB=$(realpath "${1:?usage: options_test.sh path/to/dynorb}")
-DIR=$(mktemp -d)
-trap 'rm -rf "$DIR"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 
 # expect_error expected-first-line args...  (OUT stands for a fresh output folder)
 expect_error() {
@@ -35,8 +31,4 @@ expect_error "--seed: expects a non-negative integer, got '-2'" trajgen --out OU
 # Good values pass the option checks (the run then fails on the missing dataset).
 expect_error "dynorb: error: dataset folder not found: $NO_DATA" run --dataset "$NO_DATA" --out OUT --seed 18446744073709551615 --overlay-every 3
 
-if ((failures)); then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all option checks passed"
+finish "option checks"

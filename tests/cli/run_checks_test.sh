@@ -4,11 +4,7 @@
 # has none. And which calibration a folder without camera.yaml gets.
 # Usage: run_checks_test.sh path/to/dynorb
 set -uo pipefail
-DYNORB=$(realpath "${1:?usage: run_checks_test.sh path/to/dynorb}")
-DIR=$(mktemp -d)
-trap 'rm -rf "$DIR"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 
 "$DYNORB" synth --preset walking_xyz --frames 40 --people procedural --static-twin --out "$DIR/seq" >/dev/null 2>&1 ||
   { echo "FAIL: synth"; exit 1; }
@@ -62,8 +58,4 @@ grep -qF "has no camera.yaml (use e.g. --config config/tum_fr3.yaml; a folder na
   fail "folder without camera.yaml: message '$err'"
 [[ ! -e "$DIR/other" ]] || fail "folder without camera.yaml: wrote output"
 
-if ((failures)); then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all run checks passed"
+finish "run checks"
