@@ -34,16 +34,9 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
   }
   EvalOptions options;
   options.cli_hints = false;  // `dynorb run` has no --max-diff / --align.
-  EvalResult result = EvaluateTrajectories(cropped, estimate, options);
   // A run shorter than the RPE step has no RPE pair by construction: nothing to warn about.
-  if (records.back().timestamp_s - records.front().timestamp_s < options.rpe_delta_s) {
-    std::vector<std::string> kept;
-    for (const std::string& w : result.warnings) {
-      if (w.rfind("RPE not available", 0) != 0) kept.push_back(w);
-    }
-    result.warnings = kept;
-  }
-  return result;
+  options.warn_rpe_shorter_than_delta = false;
+  return EvaluateTrajectories(cropped, estimate, options);
 }
 
 std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers,

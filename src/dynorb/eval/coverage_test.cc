@@ -73,5 +73,21 @@ TEST(Coverage, UnassociatedEstimatesCoverNothing) {
   EXPECT_TRUE(HasWarning(r, "have no ground truth within --max-diff"));
 }
 
+TEST(EvalWarnings, RunWordingAndShortEstimates) {
+  const Trajectory gt = Wiggle(301, 10.0);  // 10 Hz, 30 s
+  Trajectory est = gt;
+  for (size_t k = 150; k < est.size(); ++k) est[k].timestamp_s += 0.04;
+  EvalOptions run;
+  run.cli_hints = false;  // The words of `dynorb run`: no --max-diff.
+  const EvalResult r = EvaluateTrajectories(gt, est, run);
+  EXPECT_TRUE(HasWarning(r, "have no ground truth within 0.02 s and are ignored"));
+  EXPECT_FALSE(HasWarning(r, "--max-diff"));
+  // 0.5 s of estimate: no pose pair 1 s apart. Warned by default, not when that is expected.
+  const Trajectory short_est(gt.begin() + 10, gt.begin() + 16);
+  EXPECT_TRUE(HasWarning(EvaluateTrajectories(gt, short_est, EvalOptions()), "RPE not available"));
+  run.warn_rpe_shorter_than_delta = false;
+  EXPECT_FALSE(HasWarning(EvaluateTrajectories(gt, short_est, run), "RPE not available"));
+}
+
 }  // namespace
 }  // namespace dynorb

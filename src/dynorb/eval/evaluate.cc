@@ -84,7 +84,9 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
                               " estimate poses have no ground truth within " + max_diff_name +
                               Format("%.4g s and are ignored", options.association.max_diff_s));
   }
-  if (result.rpe.pairs.empty()) {
+  const bool shorter_than_delta =
+      est.back().timestamp_s - est.front().timestamp_s < options.rpe_delta_s;
+  if (result.rpe.pairs.empty() && (options.warn_rpe_shorter_than_delta || !shorter_than_delta)) {
     result.warnings.push_back(
         Format("RPE not available: no estimate pose pair %.3g s apart with ground truth",
                options.rpe_delta_s));

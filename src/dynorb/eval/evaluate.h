@@ -23,6 +23,9 @@ struct EvalOptions {
   // Messages name `dynorb eval`'s options (--max-diff, --align) as what to change; false: the
   // same facts without them (the evaluation inside `dynorb run`, which has no such options).
   bool cli_hints = true;
+  // Warn that the RPE is not available also when the estimate spans less than rpe_delta_s (no
+  // pose pair by construction); false: only when a longer estimate has none (its gaps).
+  bool warn_rpe_shorter_than_delta = true;
   void Validate() const;                          // throws InputError
 };
 
