@@ -1,0 +1,191 @@
+#include "dynorb/place_recognition/vocabulary.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
+
+namespace dynorb {
+namespace {
+
+cv::Mat RandomPrototypes(int n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  cv::Mat p(n, 32, CV_8UC1);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < 32; ++c) p.at<uint8_t>(r, c) = static_cast<uint8_t>(rng() & 0xff);
+  }
+  return p;
+}
+
+// `copies` noisy copies (up to `flips` random bits flipped) of each listed prototype row.
+cv::Mat NoisyCopies(const cv::Mat& prototypes, const std::vector<int>& which, int copies, int flips,
+                    std::mt19937* rng) {
+  cv::Mat out;
+  for (int p : which) {
+    for (int c = 0; c < copies; ++c) {
+      cv::Mat row = prototypes.row(p).clone();
+      for (int f = 0; f < flips; ++f) {
+        const int bit = static_cast<int>((*rng)() % 256);
+        row.at<uint8_t>(0, bit / 8) ^= static_cast<uint8_t>(1u << (bit % 8));
+      }
+      out.push_back(row);
+    }
+  }
+  return out;
+}
+
+struct Clustered {
+  cv::Mat prototypes;
+  std::vector<cv::Mat> images;
+};
+
+// Eight well-separated prototypes (random 256-bit strings differ in ~128 bits); image i holds
+// copies of prototype 0 (in every image) and of prototype 1 + i % 7.
+Clustered EightClusters() {
+  Clustered c;
+  c.prototypes = RandomPrototypes(8, 7);
+  std::mt19937 rng(11);
+  for (int i = 0; i < 14; ++i)
+    c.images.push_back(NoisyCopies(c.prototypes, {0, 1 + i % 7}, 20, 8, &rng));
+  return c;
+}
+
+VocabularyOptions Flat(int branching) {
+  VocabularyOptions o;
+  o.branching = branching;
+  o.levels = 1;
+  return o;
+}
+
+TEST(Vocabulary, SeparatedClustersBecomeOneWordEach) {
+  const Clustered c = EightClusters();
+  const Vocabulary v = Vocabulary::Train(c.images, Flat(8));
+  EXPECT_EQ(v.NumWords(), 8);
+  std::mt19937 rng(99);
+  std::set<uint32_t> words;
+  for (int p = 0; p < 8; ++p) {
+    const cv::Mat copies = NoisyCopies(c.prototypes, {p}, 30, 10, &rng);
+    const uint32_t w = v.Word(c.prototypes.ptr<uint8_t>(p));
+    for (int r = 0; r < copies.rows; ++r)
+      EXPECT_EQ(v.Word(copies.ptr<uint8_t>(r)), w) << "prototype " << p;
+    words.insert(w);
+  }
+  EXPECT_EQ(words.size(), 8u);
+}
+
+TEST(Vocabulary, IdfIsZeroForAWordInEveryImageAndLogNForARareOne) {
+  const Clustered c = EightClusters();
+  const Vocabulary v = Vocabulary::Train(c.images, Flat(8));
+  EXPECT_FLOAT_EQ(v.idf(v.Word(c.prototypes.ptr<uint8_t>(0))), 0.0f);
+  // Prototype 1 is in images 0 and 7 of 14.
+  EXPECT_NEAR(v.idf(v.Word(c.prototypes.ptr<uint8_t>(1))), std::log(14.0 / 2.0), 1e-6);
+}
+
+TEST(Vocabulary, TransformIsNormalisedAndScoresSamePlaceHigh) {
+  const Clustered c = EightClusters();
+  const Vocabulary v = Vocabulary::Train(c.images, Flat(8));
+  std::mt19937 rng(5);
+  const BowVector a = v.Transform(NoisyCopies(c.prototypes, {0, 2, 3}, 10, 6, &rng));
+  const BowVector a2 = v.Transform(NoisyCopies(c.prototypes, {3, 2, 0}, 12, 6, &rng));
+  const BowVector b = v.Transform(NoisyCopies(c.prototypes, {0, 5, 6}, 10, 6, &rng));
+  ASSERT_EQ(a.size(), 2u);  // prototype 0's word has idf 0 and is dropped
+  double sum = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sum += a[i].weight;
+    if (i > 0) {
+      EXPECT_LT(a[i - 1].word, a[i].word);
+    }
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-6);
+  EXPECT_NEAR(BowScore(a, a), 1.0, 1e-6);
+  EXPECT_NEAR(BowScore(a, a2), 1.0, 1e-6);  // same words, same proportions
+  EXPECT_NEAR(BowScore(a, b), 0.0, 1e-9);   // only the uninformative word in common
+  EXPECT_TRUE(v.Transform(cv::Mat()).empty());
+}
+
+TEST(Vocabulary, TreeWithSeveralLevelsReachesEveryLeaf) {
+  const cv::Mat prototypes = RandomPrototypes(60, 3);
+  std::mt19937 rng(4);
+  std::vector<cv::Mat> images;
+  for (int i = 0; i < 6; ++i) {
+    std::vector<int> which;
+    for (int p = i * 10; p < i * 10 + 10; ++p) which.push_back(p);
+    images.push_back(NoisyCopies(prototypes, which, 5, 4, &rng));
+  }
+  VocabularyOptions o;
+  o.branching = 4;
+  o.levels = 3;
+  const Vocabulary v = Vocabulary::Train(images, o);
+  EXPECT_GT(v.NumWords(), 16);
+  EXPECT_LE(v.NumWords(), 64);
+  std::set<uint32_t> words;
+  for (const cv::Mat& image : images) {
+    for (int r = 0; r < image.rows; ++r) words.insert(v.Word(image.ptr<uint8_t>(r)));
+  }
+  EXPECT_EQ(static_cast<int>(words.size()),
+            v.NumWords());  // every word is some training descriptor's
+  EXPECT_LT(*words.rbegin(), static_cast<uint32_t>(v.NumWords()));
+}
+
+TEST(Vocabulary, TrainingIsReproducibleAndTheBinaryFormRoundTrips) {
+  const Clustered c = EightClusters();
+  VocabularyOptions o;
+  o.branching = 3;
+  o.levels = 2;
+  const Vocabulary v = Vocabulary::Train(c.images, o);
+  EXPECT_EQ(Vocabulary::Train(c.images, o).ToBytes(), v.ToBytes());
+  const std::string path = ::testing::TempDir() + "/vocabulary_test.bin";
+  v.Save(path);
+  const Vocabulary back = Vocabulary::Load(path);
+  std::remove(path.c_str());
+  EXPECT_EQ(back.ToBytes(), v.ToBytes());
+  EXPECT_EQ(back.NumWords(), v.NumWords());
+  EXPECT_EQ(back.branching(), 3);
+  EXPECT_EQ(back.levels(), 2);
+  for (const cv::Mat& image : c.images) {
+    for (int r = 0; r < image.rows; ++r)
+      EXPECT_EQ(back.Word(image.ptr<uint8_t>(r)), v.Word(image.ptr<uint8_t>(r)));
+  }
+}
+
+TEST(Vocabulary, BadFilesAndOptionsAreInputErrors) {
+  const Clustered c = EightClusters();
+  const std::string bytes = Vocabulary::Train(c.images, Flat(8)).ToBytes();
+  testing::ExpectInputError([&] { Vocabulary::FromBytes("hello", "v.bin"); },
+                            "v.bin: not a dynorb vocabulary");
+  std::string flipped = bytes;
+  flipped[40] ^= 1;
+  testing::ExpectInputError([&] { Vocabulary::FromBytes(flipped, "v.bin"); },
+                            "v.bin: vocabulary file is corrupt");
+  testing::ExpectInputError(
+      [&] { Vocabulary::FromBytes(bytes.substr(0, bytes.size() - 20), "v.bin"); }, "corrupt");
+  testing::ExpectInputError([&] { Vocabulary::Load("/nonexistent/v.bin"); },
+                            "/nonexistent/v.bin: cannot open");
+  testing::ExpectInputError(
+      [&] { Vocabulary::Train({cv::Mat(3, 32, CV_8UC1, cv::Scalar(1))}, Flat(8)); },
+      "at least 8 descriptors, got 3");
+  testing::ExpectInputError([&] { Vocabulary::Train({cv::Mat(30, 16, CV_8UC1)}, Flat(8)); },
+                            "32 columns");
+  // A checksum-valid file whose branching field is out of range.
+  std::string inconsistent = bytes.substr(0, bytes.size() - 8);
+  inconsistent[8] = 99;
+  uint64_t h = 1469598103934665603ULL;
+  for (char ch : inconsistent) h = (h ^ static_cast<uint8_t>(ch)) * 1099511628211ULL;
+  for (int i = 0; i < 8; ++i) inconsistent.push_back(static_cast<char>((h >> (8 * i)) & 0xff));
+  testing::ExpectInputError([&] { Vocabulary::FromBytes(inconsistent, "v.bin"); },
+                            "v.bin: inconsistent vocabulary: branching or levels");
+  VocabularyOptions o;
+  o.branching = 1;
+  testing::ExpectInputError([&] { o.Validate(); }, "branching");
+  o.branching = 10;
+  o.levels = 9;
+  testing::ExpectInputError([&] { o.Validate(); }, "levels");
+}
+
+}  // namespace
+}  // namespace dynorb
