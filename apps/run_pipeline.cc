@@ -25,6 +25,7 @@
 #include "dynorb/io/config.h"
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
+#include "dynorb/place_recognition/vocabulary.h"
 #include "dynorb/system/system.h"
 #include "preload_budget.h"
 #include "progress_bar.h"
@@ -61,45 +62,68 @@ std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
 }
 
 // The `tracking:` and `mapping:` YAML sections (optional; defaults are ORB-SLAM2's RGB-D values).
-void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* sys, ConfigSchema* schema) {
+void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* sys,
+                      std::string* vocabulary_path, ConfigSchema* schema) {
+  schema->Section("place_recognition", "Place recognition (docs/place_recognition.md)")
+      .Add("enabled", &sys->place_recognition,
+           "keyframes get a bag of words; relocalisation tries the keyframes of the recognised "
+           "place first")
+      .Add("vocabulary", vocabulary_path,
+           "vocabulary file written by `dynorb vocab` (empty: the built-in one)");
   schema->Section("tracking", "Tracker (docs/slam_core.md)")
       .Add("refill_filtered", &sys->refill_filtered,
            "after the dynamic filter removed keypoints, detect again outside the removed area")
-      .Add("refill_disk_px", &sys->refill_disk_px, "radius excluded around each removed keypoint (px)")
-      .Add("motion_radius_px", &t->motion_radius_px, "search radius of motion-model tracking (level 0)")
-      .Add("local_map_radius_factor", &t->local_map_radius_factor, "radius factor of local-map search")
+      .Add("refill_disk_px", &sys->refill_disk_px,
+           "radius excluded around each removed keypoint (px)")
+      .Add("motion_radius_px", &t->motion_radius_px,
+           "search radius of motion-model tracking (level 0)")
+      .Add("local_map_radius_factor", &t->local_map_radius_factor,
+           "radius factor of local-map search")
       .Add("min_local_map_inliers", &t->min_local_map_inliers, "inliers needed to accept a pose")
       .Add("max_local_keyframes", &t->max_local_keyframes, "local map size (keyframes)")
       .Add("min_frames_between_keyframes", &t->min_frames_between_keyframes,
            "frames before an idle mapper may take a new keyframe")
-      .Add("max_frames_between_keyframes", &t->max_frames_between_keyframes, "frames after which one is due")
+      .Add("max_frames_between_keyframes", &t->max_frames_between_keyframes,
+           "frames after which one is due")
       .Add("reference_ratio", &t->reference_ratio, "new keyframe when tracking < ratio x reference")
-      .Add("close_tracked_max", &t->close_tracked_max, "'need close points': tracked close points below this ...")
-      .Add("close_untracked_min", &t->close_untracked_min, "... and untracked close points above this")
+      .Add("close_tracked_max", &t->close_tracked_max,
+           "'need close points': tracked close points below this ...")
+      .Add("close_untracked_min", &t->close_untracked_min,
+           "... and untracked close points above this")
       .Add("close_keyframe_min_frames", &t->close_keyframe_min_frames,
            "frames after a keyframe before 'need close points' may ask again")
       .Add("filtered_keyframe_fraction", &t->filtered_keyframe_fraction,
-           "once max_frames_between_keyframes have passed, a frame whose filter removed at least this fraction of "
+           "once max_frames_between_keyframes have passed, a frame whose filter removed at least "
+           "this fraction of "
            "the keypoints needs close points whatever their tracked count (0: off)")
       .Add("filtered_keyframe_min_motion_m", &t->filtered_keyframe_min_motion_m,
            "... once the camera is at least this far from its reference keyframe (m) ...")
       .Add("filtered_keyframe_min_rotation_deg", &t->filtered_keyframe_min_rotation_deg,
            "... or turned at least this much from it (deg; both 0: no motion condition)")
       .Add("new_close_points", &t->new_close_points,
-           "landmarks created from depth per new keyframe: all closer than ThDepth, at least this many nearest")
-      .Add("relocalization_candidates", &t->relocalization_candidates, "recent keyframes tried when lost")
+           "landmarks created from depth per new keyframe: all closer than ThDepth, at least this "
+           "many nearest")
+      .Add("relocalization_candidates", &t->relocalization_candidates,
+           "keyframes tried when lost, in all")
+      .Add("relocalization_place_candidates", &t->relocalization_place_candidates,
+           "... of which at most this many found by place recognition first, then the most recent "
+           "ones")
       .Add("provisional_min_found", &t->provisional_min_found,
-           "landmarks of one keyframe found in fewer frames must agree with the established map's pose (0: off)")
+           "landmarks of one keyframe found in fewer frames must agree with the established map's "
+           "pose (0: off)")
       .Add("provisional_min_established", &t->pose.min_established,
            "established observations needed before provisional ones are held back")
       .Add("provisional_gate_factor", &t->pose.provisional_gate_factor,
            "chi2 gate factor (0..1] for provisional landmarks joining the established pose")
       .Add("pose_min_gate_scale", &t->pose.min_gate_scale,
-           "the pose solve's chi2 gates follow the measured keypoint noise down to this scale (0..1]; 1: fixed 1-px gates")
+           "the pose solve's chi2 gates follow the measured keypoint noise down to this scale "
+           "(0..1]; 1: fixed 1-px gates")
       .Add("pose_depth_fallback", &t->pose.depth_fallback,
-           "an RGB-D match whose depth fails the pose solve's gate but whose pixel fits joins without its depth (false: dropped, as ORB-SLAM2)")
+           "an RGB-D match whose depth fails the pose solve's gate but whose pixel fits joins "
+           "without its depth (false: dropped, as ORB-SLAM2)")
       .Add("motion_prior_sigma_m", &t->motion_prior_sigma_m,
-           "prior on the camera centre from a smoothed constant-velocity model, standard deviation (m; 0: off)")
+           "prior on the camera centre from a smoothed constant-velocity model, standard deviation "
+           "(m; 0: off)")
       .Add("motion_prior_velocity_gain", &t->motion_prior_velocity_gain,
            "gain (0..1] of the exponential average of the camera centre's velocity")
       .OnLoaded([t] { t->Validate(); });
@@ -175,8 +199,10 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   BindSystemConfig(&config, &schema);
   TrackerOptions tracker_options;
   LocalMapperOptions mapper_options;
-  SystemOptions system_options;  // The keys bound in `tracking:` (refill_*).
-  BindSlamSections(&tracker_options, &mapper_options, &system_options, &schema);
+  SystemOptions
+      system_options;  // The keys bound in `tracking:` (refill_*) and `place_recognition:`.
+  std::string vocabulary_path;
+  BindSlamSections(&tracker_options, &mapper_options, &system_options, &vocabulary_path, &schema);
   std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
   if (mode) mode->BindConfig(&schema);
   if (builtin_config) {
@@ -196,6 +222,10 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   }
   if (!schema.IsSet("tracking.max_frames_between_keyframes")) {  // ORB-SLAM2: one second of frames.
     tracker_options.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
+  }
+  if (system_options.place_recognition && !vocabulary_path.empty()) {
+    system_options.vocabulary =
+        std::make_shared<const Vocabulary>(Vocabulary::Load(vocabulary_path));
   }
   const SystemOptions options = MakeSystemOptions(config, cli, tracker_options, mapper_options, system_options);
   std::unique_ptr<KeypointFilter> filter;

@@ -10,6 +10,7 @@
 #include "dynorb/core/ids.h"
 #include "dynorb/core/rigid3.h"
 #include "dynorb/map/frame_features.h"
+#include "dynorb/place_recognition/vocabulary.h"
 
 namespace dynorb {
 
@@ -24,6 +25,7 @@ struct Keyframe {
   std::vector<KeyframeId> ordered_covisibles;     // By weight, descending (ties: by id).
   KeyframeId parent = kNoKeyframe;                // Spanning tree.
   std::set<KeyframeId> children;
+  BowVector bow;  // Bag of words (MapData::AddKeyframe, when the map has a vocabulary).
 
   Eigen::Vector3d CameraCenterInWorld() const { return cam_from_world.Inverse().translation; }
 };

@@ -27,6 +27,10 @@ int MapData::NumTrackedLandmarks(KeyframeId kf, int min_weighted_observations) c
 KeyframeId MapData::AddKeyframe(Keyframe keyframe) {
   keyframe.id = next_keyframe_id_++;
   keyframe.landmarks.assign(keyframe.features ? keyframe.features->size() : 0, kNoLandmark);
+  if (vocabulary_ && keyframe.features) {
+    keyframe.bow = vocabulary_->Transform(keyframe.features->descriptors());
+    database_.Add(keyframe.id, keyframe.bow);
+  }
   const KeyframeId id = keyframe.id;
   keyframes_.emplace(id, std::move(keyframe));
   return id;
@@ -189,6 +193,7 @@ std::vector<KeyframeId> MapData::BestCovisibles(KeyframeId kf, int n) const {
 void MapData::EraseKeyframe(KeyframeId kf) {
   auto it = keyframes_.find(kf);
   if (it == keyframes_.end() || kf == keyframes_.begin()->first) return;
+  database_.Erase(kf);
   Keyframe& k = it->second;
   for (const auto& [other, w] : k.covisibility) {
     Keyframe& o = keyframes_.at(other);

@@ -7,17 +7,27 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <mutex>
 #include <shared_mutex>
 #include <vector>
 
 #include "dynorb/map/keyframe.h"
 #include "dynorb/map/landmark.h"
+#include "dynorb/place_recognition/keyframe_database.h"
 
 namespace dynorb {
 
 class MapData {
  public:
+  // Place recognition: with a vocabulary, every keyframe added gets its bag of words and enters
+  // the keyframe database (set it before the first keyframe; nullptr: none).
+  void SetVocabulary(std::shared_ptr<const Vocabulary> vocabulary) {
+    vocabulary_ = std::move(vocabulary);
+  }
+  const Vocabulary* vocabulary() const { return vocabulary_.get(); }
+  const KeyframeDatabase& keyframe_database() const { return database_; }
+
   KeyframeId AddKeyframe(Keyframe keyframe);  // Assigns the id; landmarks vector sized to features.
   LandmarkId AddLandmark(Landmark landmark);  // Assigns the id.
 
@@ -70,6 +80,8 @@ class MapData {
   std::map<KeyframeId, std::pair<KeyframeId, Rigid3d>> erased_;
   KeyframeId next_keyframe_id_ = 0;
   LandmarkId next_landmark_id_ = 0;
+  std::shared_ptr<const Vocabulary> vocabulary_;
+  KeyframeDatabase database_;
 };
 
 class Map {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "dynorb/map/frame_features.h"
+#include "dynorb/map/place_candidates.h"
 
 namespace dynorb {
 namespace {
@@ -220,6 +221,50 @@ TEST(Map, ReadWriteUnderOneLock) {
   });
   EXPECT_EQ(map.Read([](const MapData& d) { return d.NumKeyframes(); }), 1u);
   EXPECT_EQ(id, 0u);
+}
+
+// Place recognition in the map: keyframes get their bag of words and enter the database; a
+// place seen by two covisible keyframes is one group, represented by its best keyframe.
+TEST(MapData, PlaceCandidatesGroupCovisibleKeyframesAndForgetErasedOnes) {
+  const auto place_a = MakeFeatures(200, 11), place_b = MakeFeatures(200, 12),
+             place_c = MakeFeatures(200, 13);
+  VocabularyOptions vo;
+  vo.branching = 8;
+  vo.levels = 3;
+  MapData map;
+  map.SetVocabulary(std::make_shared<const Vocabulary>(Vocabulary::Train(
+      {place_a->descriptors(), place_b->descriptors(), place_c->descriptors()}, vo)));
+  Keyframe k;
+  k.features = place_a;
+  const KeyframeId a0 = map.AddKeyframe(k), a1 = map.AddKeyframe(k);
+  k.features = place_b;
+  const KeyframeId b = map.AddKeyframe(k);
+  k.features = place_c;
+  const KeyframeId c = map.AddKeyframe(k);
+  EXPECT_EQ(map.keyframe_database().size(), 4u);
+  EXPECT_FALSE(map.keyframe(a0).bow.empty());
+  for (int i = 0; i < 30; ++i) {  // a0 and a1 share 30 landmarks: covisible
+    const LandmarkId lm = map.AddLandmark(Landmark());
+    map.AddObservation(lm, a0, i);
+    map.AddObservation(lm, a1, i);
+  }
+  map.UpdateConnections(a0);
+  map.UpdateConnections(a1);
+  const BowVector query = map.vocabulary()->Transform(place_a->descriptors());
+  std::vector<ScoredKeyframe> found = PlaceCandidates(map, query);
+  ASSERT_EQ(found.size(), 1u);             // b and c share few words; a0 and a1 are one place
+  EXPECT_EQ(found[0].keyframe, a0);        // equal scores: the lower id
+  EXPECT_NEAR(found[0].score, 2.0, 1e-5);  // accumulated over the group
+  found = PlaceCandidates(map, query, {a0});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].keyframe, a1);
+  found = PlaceCandidates(map, map.vocabulary()->Transform(place_c->descriptors()));
+  ASSERT_FALSE(found.empty());
+  EXPECT_EQ(found[0].keyframe, c);
+  map.EraseKeyframe(a1);
+  EXPECT_EQ(map.keyframe_database().size(), 3u);
+  EXPECT_FALSE(map.keyframe_database().Contains(a1));
+  EXPECT_TRUE(map.keyframe_database().Contains(b));
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "dynorb/place_recognition/vocabulary.h"
+#include "dynorb/place_recognition/builtin_vocabulary.h"
 
 #include <gtest/gtest.h>
 
@@ -185,6 +186,22 @@ TEST(Vocabulary, BadFilesAndOptionsAreInputErrors) {
   o.branching = 10;
   o.levels = 9;
   testing::ExpectInputError([&] { o.Validate(); }, "levels");
+}
+
+TEST(BuiltInVocabulary, IsTheCheckoutsFileAndSeparatesPlaces) {
+  const std::shared_ptr<const Vocabulary> v = BuiltInVocabulary();
+  EXPECT_EQ(
+      v->ToBytes(),
+      Vocabulary::Load(std::string(DYNORB_SOURCE_DIR) + "/config/orb_vocabulary.dynvoc").ToBytes());
+  EXPECT_EQ(v->branching(), 10);
+  EXPECT_EQ(v->levels(), 4);
+  EXPECT_GT(v->NumWords(), 5000);
+  EXPECT_EQ(BuiltInVocabulary().get(), v.get());  // parsed once
+  // Random descriptors spread over many words.
+  const cv::Mat random = RandomPrototypes(1000, 21);
+  std::set<uint32_t> words;
+  for (int r = 0; r < random.rows; ++r) words.insert(v->Word(random.ptr<uint8_t>(r)));
+  EXPECT_GT(words.size(), 300u);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/timer.h"
+#include "dynorb/place_recognition/builtin_vocabulary.h"
 
 namespace dynorb {
 
@@ -31,6 +32,11 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
       tracker_(options.sensor, options.tracker, &map_),
       mapper_(options.sensor, options.mapper, &map_),
       queue_(static_cast<size_t>(options.mapper_queue_capacity)) {
+  if (options_.place_recognition) {
+    map_.Write([&](MapData& map) {
+      map.SetVocabulary(options_.vocabulary ? options_.vocabulary : BuiltInVocabulary());
+    });
+  }
   if (options_.run_mode == RunMode::kParallel)
     mapper_thread_ = std::thread([this] { MapperLoop(); });
 }

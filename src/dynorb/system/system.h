@@ -58,6 +58,10 @@ struct SystemOptions {
   // 0 (default): 2 when there is a keypoint filter, 1 without (plain mode: detection and
   // description alone are too light to split; session 31, docs/slam_core.md).
   int front_end_threads = 0;
+  // Place recognition (relocalisation over the whole map): keyframes get a bag of words of this
+  // vocabulary; nullptr: the built-in one (place_recognition/builtin_vocabulary.h).
+  bool place_recognition = true;
+  std::shared_ptr<const Vocabulary> vocabulary;
   void Validate() const;  // Throws InputError.
 };
 

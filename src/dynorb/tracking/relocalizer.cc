@@ -3,6 +3,9 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include <algorithm>
+
+#include "dynorb/map/place_candidates.h"
 #include "dynorb/optimization/pose_optimizer.h"
 #include "dynorb/tracking/local_map.h"
 #include "dynorb/tracking/projection_search.h"
@@ -32,12 +35,28 @@ int Optimize(const RgbdSensor& sensor, const PoseOptimizerOptions& options, Fram
 
 }  // namespace
 
+std::vector<KeyframeId> Relocalizer::Candidates(const MapData& map,
+                                                const FrameFeatures& features) const {
+  std::vector<KeyframeId> candidates;
+  if (map.vocabulary() != nullptr && options_.relocalization_place_candidates > 0) {
+    const BowVector bow = map.vocabulary()->Transform(features.descriptors());
+    for (const ScoredKeyframe& s : PlaceCandidates(map, bow)) {
+      if (static_cast<int>(candidates.size()) >= options_.relocalization_place_candidates) break;
+      candidates.push_back(s.keyframe);
+    }
+  }
+  for (auto it = map.keyframes().rbegin(); it != map.keyframes().rend(); ++it) {
+    if (static_cast<int>(candidates.size()) >= options_.relocalization_candidates) break;
+    if (std::find(candidates.begin(), candidates.end(), it->first) == candidates.end())
+      candidates.push_back(it->first);
+  }
+  return candidates;
+}
+
 bool Relocalizer::Relocalize(const Map& map, Frame* frame) const {
   return map.Read([&](const MapData& data) {
-    int tried = 0;
-    for (auto it = data.keyframes().rbegin(); it != data.keyframes().rend(); ++it) {
-      if (tried++ >= options_.relocalization_candidates) break;
-      if (TryCandidate(data, it->first, frame)) return true;
+    for (KeyframeId candidate : Candidates(data, *frame->features)) {
+      if (TryCandidate(data, candidate, frame)) return true;
     }
     frame->ResetMatches();
     return false;

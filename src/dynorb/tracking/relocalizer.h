@@ -1,5 +1,6 @@
 // Relocalizer: recovers the pose of a frame when tracking is lost.
-// Candidates are the most recent keyframes (place recognition with a vocabulary comes later).
+// Candidates: the keyframes place recognition finds for the frame's bag of words
+// (map/place_candidates.h; when the map has a vocabulary), then the most recent keyframes.
 // For each: brute-force descriptor matches to its landmarks (>= 15), PnP RANSAC (OpenCV EPnP
 // inside RANSAC), pose-only BA on the RANSAC inliers; with fewer than 50 inliers, the candidate's
 // local map is projected for more matches and the pose refined again. Success: >= 50 inliers.
@@ -19,6 +20,8 @@ class Relocalizer {
   bool Relocalize(const Map& map, Frame* frame) const;
 
  private:
+  // Keyframes to try, in order (TrackerOptions::relocalization_place_candidates / _candidates).
+  std::vector<KeyframeId> Candidates(const MapData& map, const FrameFeatures& features) const;
   bool TryCandidate(const MapData& map, KeyframeId candidate, Frame* frame) const;
 
   RgbdSensor sensor_;

@@ -16,9 +16,9 @@ void TrackerOptions::Validate() const {
   if (min_init_points < 10 || min_init_depth_points < 3 || motion_radius_px <= 0 ||
       local_map_radius_factor <= 0 || min_frame_inliers < 3 || min_local_map_inliers < 3 ||
       max_local_keyframes < 1 || max_frames_between_keyframes < 1 || reference_ratio <= 0 ||
-      reference_ratio > 1 || relocalization_candidates < 1 || close_keyframe_min_frames < 0 ||
-      close_tracked_max < 0 || close_untracked_min < 0 || provisional_min_found < 0 ||
-      new_close_points < 0 ||
+      reference_ratio > 1 || relocalization_candidates < 1 || relocalization_place_candidates < 0 ||
+      close_keyframe_min_frames < 0 || close_tracked_max < 0 || close_untracked_min < 0 ||
+      provisional_min_found < 0 || new_close_points < 0 ||
       !(filtered_keyframe_fraction >= 0.0 && filtered_keyframe_fraction <= 1.0)) {
     throw InputError("tracker options out of range (see tracking/tracker_options.h)");
   }

@@ -48,7 +48,11 @@ struct TrackerOptions {
   // dynamic scene the closest untracked keypoints are the movers. 0 disables.
   int provisional_min_found = 3;
   int new_close_points = 100;              // Landmarks created from depth per new keyframe.
-  int relocalization_candidates = 40;      // Most recent keyframes tried when lost.
+  // When lost: first the keyframes place recognition finds (when the map has a vocabulary; at most
+  // this many), then the most recent keyframes not tried yet, up to relocalization_candidates in
+  // all.
+  int relocalization_place_candidates = 10;
+  int relocalization_candidates = 40;  // Keyframes tried when lost.
   // Motion prior on the camera centre (0: off = ORB-SLAM2). Every pose solve of a tracked frame
   // also weighs where a smoothed constant-velocity model puts the camera centre, with this
   // standard deviation (m); the velocity (m/s) is an exponential average of the tracked centres'

@@ -5,6 +5,7 @@
 
 #include "dynorb/core/angles.h"
 #include "dynorb/core/error.h"
+#include "dynorb/place_recognition/vocabulary.h"
 #include "dynorb/tracking/centre_motion_model.h"
 #include "dynorb/tracking/projection_search.h"
 #include "dynorb/tracking/test_world.h"
@@ -125,6 +126,61 @@ TEST_F(TrackerTest, RelocalizesAfterLosingTrack) {
   EXPECT_LT(TranslationError(r.cam_from_world, testing::TruthInFirstCamera(25)), 0.02);
   // And tracking continues from there.
   for (int k = 26; k < 35; ++k) EXPECT_TRUE(Feed(tracker, k, id++).pose_valid) << k;
+}
+
+// Place recognition: the camera turns from the front wall to the back wall, is lost, and comes
+// back facing the front wall, a place none of the recent keyframes shows. With
+// relocalization_candidates 2 (as if the map were large) only the keyframes the vocabulary finds
+// can take it back; without a vocabulary the same frame stays lost.
+TEST_F(TrackerTest, PlaceRecognitionRelocalizesAtAPlaceOnlyOldKeyframesShow) {
+  const auto turned = [](int k) {  // 1.5 degrees per frame about the vertical axis
+    return Rigid3d(
+        Eigen::Quaterniond(Eigen::AngleAxisd(1.5 * k * M_PI / 180.0, Eigen::Vector3d::UnitY())),
+        Eigen::Vector3d(0.0, 0.0, -0.5));
+  };
+  std::vector<cv::Mat> training;
+  for (int k = 0; k <= 120; k += 10)
+    training.push_back(world_.Observe(turned(k), 7 + k)->descriptors());
+  VocabularyOptions vocabulary_options;
+  vocabulary_options.branching = 8;
+  vocabulary_options.levels = 3;
+  const auto vocabulary =
+      std::make_shared<const Vocabulary>(Vocabulary::Train(training, vocabulary_options));
+  TrackerOptions options;
+  options.relocalization_candidates = 2;
+  for (const bool with_vocabulary : {true, false}) {
+    SCOPED_TRACE(with_vocabulary ? "with a vocabulary" : "without");
+    Map map;
+    if (with_vocabulary) map.Write([&](MapData& m) { m.SetVocabulary(vocabulary); });
+    Tracker tracker(world_.sensor(), options, &map);
+    FrameId id = 0;
+    for (int k = 0; k <= 120; ++k, ++id) {
+      Frame frame(id, id / 30.0, world_.Observe(turned(k), 1000 + id));
+      ASSERT_TRUE(tracker.ProcessOne(std::move(frame), true).pose_valid) << k;
+    }
+    const size_t keyframes = map.Read([](const MapData& m) { return m.NumKeyframes(); });
+    ASSERT_GE(keyframes, 4u);
+    EXPECT_EQ(map.Read([](const MapData& m) { return m.keyframe_database().size(); }),
+              with_vocabulary ? keyframes : 0u);
+    OrbFeatures empty;
+    empty.descriptors = cv::Mat(0, 32, CV_8U);
+    Frame blank(id, id / 30.0,
+                std::make_shared<const FrameFeatures>(empty, std::vector<float>{}, world_.sensor(),
+                                                      ScaleLevels(8, 1.2)));
+    ++id;
+    EXPECT_FALSE(tracker.ProcessOne(std::move(blank), true).pose_valid);
+    // Facing the front wall again, as at frame 2.
+    Frame back(id, id / 30.0, world_.Observe(turned(2), 5000));
+    const TrackingResult r = tracker.ProcessOne(std::move(back), true);
+    if (!with_vocabulary) {
+      EXPECT_FALSE(r.pose_valid);
+      continue;
+    }
+    ASSERT_TRUE(r.pose_valid);
+    EXPECT_TRUE(r.relocalized);
+    EXPECT_LT(TranslationError(r.cam_from_world, turned(2).Inverse() * turned(0)),
+              0.02);  // SLAM world = first camera
+  }
 }
 
 // The motion prior (a smoothed constant-velocity model of the camera centre) on the same path:

@@ -1,0 +1,51 @@
+#include "dynorb/map/place_candidates.h"
+
+#include <algorithm>
+#include <map>
+
+namespace dynorb {
+
+std::vector<ScoredKeyframe> PlaceCandidates(const MapData& map, const BowVector& query,
+                                            const std::set<KeyframeId>& excluded,
+                                            const PlaceQueryOptions& options) {
+  std::map<KeyframeId, double> score;
+  for (const ScoredKeyframe& s :
+       map.keyframe_database().Query(query, options.min_common_fraction)) {
+    if (excluded.count(s.keyframe) || !map.HasKeyframe(s.keyframe) || s.score < options.min_score)
+      continue;
+    score[s.keyframe] = s.score;
+  }
+  std::map<KeyframeId, ScoredKeyframe> best_of_group;  // representative -> accumulated score
+  double best_accumulated = 0.0;
+  std::vector<std::pair<KeyframeId, ScoredKeyframe>> groups;
+  for (const auto& [kf, s] : score) {
+    double accumulated = s;
+    KeyframeId best = kf;
+    double best_score = s;
+    for (KeyframeId other : map.BestCovisibles(kf, options.group_covisibles)) {
+      auto it = score.find(other);
+      if (it == score.end()) continue;
+      accumulated += it->second;
+      if (it->second > best_score || (it->second == best_score && other < best)) {
+        best_score = it->second;
+        best = other;
+      }
+    }
+    groups.push_back({best, {best, accumulated, 0}});
+    best_accumulated = std::max(best_accumulated, accumulated);
+  }
+  for (const auto& [representative, group] : groups) {
+    if (group.score < options.min_group_fraction * best_accumulated) continue;
+    auto it = best_of_group.find(representative);
+    if (it == best_of_group.end() || it->second.score < group.score)
+      best_of_group[representative] = group;
+  }
+  std::vector<ScoredKeyframe> out;
+  for (const auto& [kf, group] : best_of_group) out.push_back(group);
+  std::sort(out.begin(), out.end(), [](const ScoredKeyframe& a, const ScoredKeyframe& b) {
+    return a.score != b.score ? a.score > b.score : a.keyframe < b.keyframe;
+  });
+  return out;
+}
+
+}  // namespace dynorb
