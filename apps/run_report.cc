@@ -121,6 +121,23 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["keyframes_inserted"] = keyframes_inserted;
   j["keyframes"] = system.NumKeyframes();
   j["landmarks"] = system.NumLandmarks();
+  // Loop closing: every keyframe where a loop was detected, whether the check confirmed it.
+  nlohmann::json loops = nlohmann::json::array();
+  int loops_closed = 0;
+  for (const LoopStepStats& l : system.loop_stats()) {
+    nlohmann::json e = {{"keyframe", l.keyframe}, {"closed", l.closed}, {"ms", l.ms}};
+    if (l.closed) {
+      ++loops_closed;
+      e["loop_keyframe"] = l.loop_keyframe;
+      e["inliers"] = l.inliers;
+      e["fused"] = l.fused;
+      e["correction_m"] = l.correction_m;
+      e["correction_deg"] = l.correction_deg;
+    }
+    loops.push_back(e);
+  }
+  j["loops_closed"] = loops_closed;
+  j["loop_detections"] = loops;
   j["wall_seconds"] = inputs.wall_seconds;
   j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
   // CPU of every thread over the same span (without --preload it includes decoding the PNGs): what
@@ -161,8 +178,9 @@ std::string FormatRunSummary(const nlohmann::json& stats) {
                 stats["frames"].get<int>(), 100.0 * stats["tracked_fraction"].get<double>(),
                 stats["lost_episodes"].get<int>(), stats["relocalizations"].get<int>());
   out << line;
-  std::snprintf(line, sizeof(line), "map               %d keyframes, %d landmarks\n", stats["keyframes"].get<int>(),
-                stats["landmarks"].get<int>());
+  std::snprintf(
+      line, sizeof(line), "map               %d keyframes, %d landmarks, %d loops closed\n",
+      stats["keyframes"].get<int>(), stats["landmarks"].get<int>(), stats.value("loops_closed", 0));
   out << line;
   std::snprintf(line, sizeof(line), "time per frame    %.1f ms mean, %.1f ms p95 (%.1f Hz wall)\n",
                 stats["timing_ms"]["frame_total"]["mean"].get<double>(),

@@ -27,6 +27,10 @@ class MapData {
   }
   const Vocabulary* vocabulary() const { return vocabulary_.get(); }
   const KeyframeDatabase& keyframe_database() const { return database_; }
+  // Counts corrections that moved keyframes and landmarks at once (loop closures): a tracker
+  // holding poses from before re-anchors them to their reference keyframes when it changes.
+  uint64_t correction_epoch() const { return correction_epoch_; }
+  void NoteCorrection() { ++correction_epoch_; }
 
   KeyframeId AddKeyframe(Keyframe keyframe);  // Assigns the id; landmarks vector sized to features.
   LandmarkId AddLandmark(Landmark landmark);  // Assigns the id.
@@ -82,6 +86,7 @@ class MapData {
   LandmarkId next_landmark_id_ = 0;
   std::shared_ptr<const Vocabulary> vocabulary_;
   KeyframeDatabase database_;
+  uint64_t correction_epoch_ = 0;
 };
 
 class Map {

@@ -10,9 +10,8 @@ std::vector<ScoredKeyframe> PlaceCandidates(const MapData& map, const BowVector&
                                             const PlaceQueryOptions& options) {
   std::map<KeyframeId, double> score;
   for (const ScoredKeyframe& s :
-       map.keyframe_database().Query(query, options.min_common_fraction)) {
-    if (excluded.count(s.keyframe) || !map.HasKeyframe(s.keyframe) || s.score < options.min_score)
-      continue;
+       map.keyframe_database().Query(query, options.min_common_fraction, excluded)) {
+    if (!map.HasKeyframe(s.keyframe) || s.score < options.min_score) continue;
     score[s.keyframe] = s.score;
   }
   std::map<KeyframeId, ScoredKeyframe> best_of_group;  // representative -> accumulated score

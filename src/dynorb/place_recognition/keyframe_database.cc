@@ -28,12 +28,15 @@ void KeyframeDatabase::Erase(KeyframeId keyframe) {
 }
 
 std::vector<ScoredKeyframe> KeyframeDatabase::Query(const BowVector& query,
-                                                    double min_common_fraction) const {
+                                                    double min_common_fraction,
+                                                    const std::set<KeyframeId>& excluded) const {
   std::map<KeyframeId, int> common;
   for (const BowEntry& e : query) {
     auto list = inverted_.find(e.word);
     if (list == inverted_.end()) continue;
-    for (KeyframeId kf : list->second) ++common[kf];
+    for (KeyframeId kf : list->second) {
+      if (!excluded.count(kf)) ++common[kf];
+    }
   }
   int max_common = 0;
   for (const auto& [kf, n] : common) max_common = std::max(max_common, n);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <vector>
 
 #include "dynorb/core/ids.h"
@@ -28,7 +29,9 @@ class KeyframeDatabase {
 
   // Keyframes sharing words with `query`, those with at least `min_common_fraction` of the best
   // keyframe's number of shared words (ORB-SLAM2: 0.8), scored; best score first, ties by id.
-  std::vector<ScoredKeyframe> Query(const BowVector& query, double min_common_fraction = 0.8) const;
+  // Keyframes in `excluded` take no part (neither returned nor setting the best count).
+  std::vector<ScoredKeyframe> Query(const BowVector& query, double min_common_fraction = 0.8,
+                                    const std::set<KeyframeId>& excluded = {}) const;
 
  private:
   std::map<uint32_t, std::vector<KeyframeId>> inverted_;  // word -> keyframes, ascending ids

@@ -33,6 +33,12 @@ TEST(KeyframeDatabase, QueryRanksBySharedWeightAndForgetsErasedKeyframes) {
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0].keyframe, 1u);
 
+  // Excluded keyframes neither come back nor set the best count: without 1, keyframe 3 (3 shared
+  // words) is the best and 2 (2 words) is below 80 % of it.
+  r = db.Query(query, 0.8, {1});
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].keyframe, 3u);
+
   db.Erase(1);
   EXPECT_FALSE(db.Contains(1));
   r = db.Query(query);

@@ -31,6 +31,7 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
       filter_(std::move(filter)),
       tracker_(options.sensor, options.tracker, &map_),
       mapper_(options.sensor, options.mapper, &map_),
+      loop_closer_(options.sensor, options.tracker, options.mapper, options.loop_closing, &map_),
       queue_(static_cast<size_t>(options.mapper_queue_capacity)) {
   if (options_.place_recognition) {
     map_.Write([&](MapData& map) {
@@ -106,15 +107,25 @@ void System::Finish() {
   if (mapper_thread_.joinable()) mapper_thread_.join();
 }
 
+MapperStepStats System::MapKeyframe(KeyframeId keyframe) {
+  const MapperStepStats stats = mapper_.ProcessOne(keyframe);
+  const LoopStepStats loop = loop_closer_.ProcessOne(keyframe);
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  mapper_stats_.push_back(stats);
+  if (loop.detected) loop_stats_.push_back(loop);
+  return stats;
+}
+
+std::vector<LoopStepStats> System::loop_stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return loop_stats_;
+}
+
 void System::MapperLoop() {
   KeyframeId kf;
   while (queue_.Pop(&kf)) {
     mapper_busy_ = true;
-    const MapperStepStats stats = mapper_.ProcessOne(kf);
-    {
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      mapper_stats_.push_back(stats);
-    }
+    MapKeyframe(kf);
     mapper_busy_ = false;
   }
 }
@@ -344,10 +355,8 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   if (result.new_keyframe != kNoKeyframe) {
     if (options_.run_mode == RunMode::kSequential) {
       watch.Restart();
-      const MapperStepStats stats = mapper_.ProcessOne(result.new_keyframe);
+      MapKeyframe(result.new_keyframe);
       record->timing.mapping_ms = watch.ElapsedMs();
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      mapper_stats_.push_back(stats);
     } else {
       queue_.Push(result.new_keyframe);
     }

@@ -30,6 +30,7 @@
 #include "dynorb/core/trajectory.h"
 #include "dynorb/dynamic/keypoint_filter.h"
 #include "dynorb/features/orb_extractor.h"
+#include "dynorb/loop_closing/loop_closer.h"
 #include "dynorb/map/map.h"
 #include "dynorb/mapping/local_mapper.h"
 #include "dynorb/tracking/tracker.h"
@@ -62,6 +63,8 @@ struct SystemOptions {
   // vocabulary; nullptr: the built-in one (place_recognition/builtin_vocabulary.h).
   bool place_recognition = true;
   std::shared_ptr<const Vocabulary> vocabulary;
+  // Loop closing after each keyframe's local mapping (needs place_recognition).
+  LoopClosingOptions loop_closing;
   void Validate() const;  // Throws InputError.
 };
 
@@ -143,6 +146,8 @@ class System {
   Trajectory KeyframeTrajectory() const;
   const std::vector<FrameRecord>& records() const { return records_; }
   std::vector<MapperStepStats> mapper_stats() const;
+  // Loop closures: one entry per keyframe where a loop was detected (closed or not).
+  std::vector<LoopStepStats> loop_stats() const;
   size_t NumKeyframes() const;
   size_t NumLandmarks() const;
   const Map& map() const { return map_; }
@@ -187,6 +192,7 @@ class System {
   Map map_;
   Tracker tracker_;
   LocalMapper mapper_;
+  LoopCloser loop_closer_;
   std::vector<FrameRecord> records_;
   FrameId next_frame_id_ = 0;
   bool record_keypoints_ = false;
@@ -198,6 +204,9 @@ class System {
   std::thread mapper_thread_;
   mutable std::mutex stats_mutex_;
   std::vector<MapperStepStats> mapper_stats_;
+  std::vector<LoopStepStats> loop_stats_;
+  // Local mapping, then loop closing, of one keyframe (either thread); returns the mapper's stats.
+  MapperStepStats MapKeyframe(KeyframeId keyframe);
   bool finished_ = false;
   // Front ends queued or running on the worker thread (pipelining), oldest first.
   struct Pending {

@@ -60,6 +60,48 @@ TEST(System, ParallelModeTracksEveryFrame) {
   EXPECT_LT(TrajectoryRmse(t), 0.015);
 }
 
+// A camera turning on the spot, 2 degrees per frame, 560 degrees in all: after a full turn the
+// view is the first keyframe's again, but the local map (the recent keyframes) does not include
+// it, so tracking makes new landmarks there; loop closing recognises the place, verifies it and
+// fuses the two sides. Tracking goes on through the correction, accurate, in both run modes.
+TEST(System, ClosesTheLoopAfterAFullTurnAndKeepsTracking) {
+  FeatureWorld world(21);
+  const auto turned = [](int k) {
+    return Rigid3d(
+        Eigen::Quaterniond(Eigen::AngleAxisd(2.0 * k * M_PI / 180.0, Eigen::Vector3d::UnitY())),
+        Eigen::Vector3d(0.0, 0.0, 0.5));
+  };
+  for (const RunMode mode : {RunMode::kSequential, RunMode::kParallel}) {
+    SCOPED_TRACE(mode == RunMode::kSequential ? "sequential" : "parallel");
+    System system(Options(world, mode));
+    const int frames = 280;
+    for (int k = 0; k < frames; ++k)
+      system.ProcessFeatures(k / 30.0, world.Observe(turned(k), 300 + k));
+    system.Finish();
+    const std::vector<LoopStepStats> loops = system.loop_stats();
+    int closed = 0;
+    for (const LoopStepStats& l : loops) closed += l.closed ? 1 : 0;
+    EXPECT_EQ(closed, 1);
+    // The first views (a wall 2.5 m away) have fewer than 500 keypoints: the map starts a few
+    // frames in; from then on every frame is tracked.
+    const Trajectory t = system.FrameTrajectory();
+    ASSERT_FALSE(t.empty());
+    const int first = static_cast<int>(std::lround(t.front().timestamp_s * 30.0));
+    EXPECT_LE(first, 15);
+    EXPECT_EQ(t.size(), static_cast<size_t>(frames - first));
+    double worst = 0.0;
+    for (const StampedPose& p : t) {
+      const int k = static_cast<int>(std::lround(p.timestamp_s * 30.0));
+      const Rigid3d truth =
+          turned(first).Inverse() * turned(k);  // world = the first keyframe's camera
+      worst = std::max(worst, (p.world_from_cam.translation - truth.translation).norm());
+    }
+    EXPECT_LT(worst, 0.02);
+    EXPECT_EQ(system.map().Read([](const MapData& m) { return m.correction_epoch(); }),
+              static_cast<uint64_t>(closed));
+  }
+}
+
 // Rejects every keypoint left of x = 256 and reports that strip as its dynamic mask.
 class LeftStripFilter : public KeypointFilter {
  public:

@@ -56,14 +56,14 @@ std::vector<KeyframeId> Relocalizer::Candidates(const MapData& map,
 bool Relocalizer::Relocalize(const Map& map, Frame* frame) const {
   return map.Read([&](const MapData& data) {
     for (KeyframeId candidate : Candidates(data, *frame->features)) {
-      if (TryCandidate(data, candidate, frame)) return true;
+      if (LocalizeAgainst(data, candidate, frame)) return true;
     }
     frame->ResetMatches();
     return false;
   });
 }
 
-bool Relocalizer::TryCandidate(const MapData& map, KeyframeId candidate, Frame* frame) const {
+bool Relocalizer::LocalizeAgainst(const MapData& map, KeyframeId candidate, Frame* frame) const {
   frame->ResetMatches();
   const std::vector<FrameLandmarkMatch> matches =
       MatchByDescriptor(*frame->features, map.keyframe(candidate), map, options_.matcher);

@@ -18,11 +18,13 @@ class Relocalizer {
   Relocalizer(const RgbdSensor& sensor, const TrackerOptions& options) : sensor_(sensor), options_(options) {}
   // On success fills frame->cam_from_world, matches and reference_keyframe; returns true.
   bool Relocalize(const Map& map, Frame* frame) const;
+  // One candidate (also loop closing's geometric check): the frame's pose from its matches to the
+  // candidate's landmarks and its local map; true with >= 50 inliers (frame filled as above).
+  bool LocalizeAgainst(const MapData& map, KeyframeId candidate, Frame* frame) const;
 
  private:
   // Keyframes to try, in order (TrackerOptions::relocalization_place_candidates / _candidates).
   std::vector<KeyframeId> Candidates(const MapData& map, const FrameFeatures& features) const;
-  bool TryCandidate(const MapData& map, KeyframeId candidate, Frame* frame) const;
 
   RgbdSensor sensor_;
   TrackerOptions options_;

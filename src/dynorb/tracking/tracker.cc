@@ -70,6 +70,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
 
   bool ok = false;
   if (state_ == TrackingState::kOk) {
+    ReanchorAfterCorrection();
     RefreshLandmarkPoints(&last_frame_);
     const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
     PredictCentre(frame, just_relocalized);
@@ -114,7 +115,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
     }
     result.reference_keyframe = reference_keyframe_;
-    if (centre_model_.enabled()) {
+    {
       last_reference_keyframe_ = reference_keyframe_;
       last_from_reference_ = map_->Read([&](const MapData& map) {
         return map.HasKeyframe(reference_keyframe_)
@@ -136,6 +137,20 @@ void Tracker::PredictCentre(const Frame& frame, bool just_relocalized) {
   if (!centre_model_.enabled() || just_relocalized) return;
   centre_prior_ = centre_model_.Predict(LastFramePoseNow().Inverse().translation,
                                         frame.timestamp_s - last_frame_.timestamp_s);
+}
+
+void Tracker::ReanchorAfterCorrection() {
+  map_->Read([&](const MapData& map) {
+    if (map.correction_epoch() == seen_correction_epoch_) return;
+    seen_correction_epoch_ = map.correction_epoch();
+    // A loop closure moved the map: the last frame keeps its pose relative to its reference
+    // keyframe.
+    if (map.HasKeyframe(last_reference_keyframe_)) {
+      last_frame_.cam_from_world =
+          last_from_reference_ * map.keyframe(last_reference_keyframe_).cam_from_world;
+    }
+    centre_model_.Reset();
+  });
 }
 
 Rigid3d Tracker::LastFramePoseNow() const {

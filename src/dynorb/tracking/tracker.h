@@ -81,10 +81,15 @@ class Tracker {
   CentreMotionModel centre_model_;
   std::optional<CentrePrior> centre_prior_;
   // The last frame's pose relative to its reference keyframe, so that the prior follows the
-  // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame).
+  // keyframe when local BA moves it (ORB-SLAM2's UpdateLastFrame), and the last frame follows a
+  // loop correction.
   KeyframeId last_reference_keyframe_ = kNoKeyframe;
   Rigid3d last_from_reference_;
   Rigid3d LastFramePoseNow() const;
+  // After a correction of the whole map (MapData::correction_epoch, loop closing) the last frame
+  // follows its reference keyframe, so the motion model predicts in the corrected map.
+  void ReanchorAfterCorrection();
+  uint64_t seen_correction_epoch_ = 0;
   KeyframeId reference_keyframe_ = kNoKeyframe;
   FrameId last_keyframe_frame_ = 0;
   FrameId last_relocalization_frame_ = 0;

@@ -1,0 +1,234 @@
+#include "dynorb/loop_closing/loop_closer.h"
+
+#include <algorithm>
+
+#include "dynorb/core/error.h"
+#include "dynorb/core/timer.h"
+#include "dynorb/map/place_candidates.h"
+#include "dynorb/mapping/landmark_fuser.h"
+#include "dynorb/optimization/pose_graph.h"
+
+namespace dynorb {
+namespace {
+
+bool Intersects(const std::set<KeyframeId>& a, const std::set<KeyframeId>& b) {
+  for (KeyframeId k : a) {
+    if (b.count(k)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void LoopClosingOptions::Validate() const {
+  if (min_keyframes < 2 || min_keyframes_between < 0 || consistency < 1 ||
+      strong_covisibility < 1 || pose_graph_iterations < 1) {
+    throw InputError(
+        "loop_closing: min_keyframes must be >= 2, min_keyframes_between >= 0, consistency >= 1, "
+        "strong_covisibility >= 1 and pose_graph_iterations >= 1");
+  }
+}
+
+LoopCloser::LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_options,
+                       const LocalMapperOptions& mapper_options, const LoopClosingOptions& options,
+                       Map* map)
+    : sensor_(sensor),
+      mapper_options_(mapper_options),
+      options_((options.Validate(), options)),
+      map_(map),
+      relocalizer_(sensor, tracker_options) {}
+
+std::vector<KeyframeId> LoopCloser::Detect(const MapData& map, KeyframeId keyframe) {
+  std::vector<KeyframeId> enough;
+  if (!map.HasKeyframe(keyframe) || map.vocabulary() == nullptr) return enough;
+  if (static_cast<int>(map.NumKeyframes()) < options_.min_keyframes) return enough;
+  if (last_loop_keyframe_ != kNoKeyframe &&
+      keyframe < last_loop_keyframe_ + static_cast<KeyframeId>(options_.min_keyframes_between)) {
+    return enough;
+  }
+  const Keyframe& k = map.keyframe(keyframe);
+  if (k.covisibility.empty() || k.bow.empty()) return enough;
+  // The least similar covisible keyframe sets the bar: a place outside the neighbourhood must look
+  // at least as much like this view as the neighbourhood does.
+  double min_score = 1.0;
+  std::set<KeyframeId> excluded{keyframe};
+  for (const auto& [other, weight] : k.covisibility) {
+    excluded.insert(other);
+    if (map.HasKeyframe(other))
+      min_score = std::min(min_score, BowScore(k.bow, map.keyframe(other).bow));
+  }
+  PlaceQueryOptions query;
+  query.min_score = min_score;
+  const std::vector<ScoredKeyframe> candidates = PlaceCandidates(map, k.bow, excluded, query);
+
+  std::vector<Group> now;
+  std::vector<bool> carried(groups_.size(), false);
+  for (const ScoredKeyframe& c : candidates) {
+    Group group;
+    group.keyframes.insert(c.keyframe);
+    for (const auto& [other, weight] : map.keyframe(c.keyframe).covisibility)
+      group.keyframes.insert(other);
+    bool consistent = false, counted = false;
+    for (size_t g = 0; g < groups_.size(); ++g) {
+      if (!Intersects(group.keyframes, groups_[g].keyframes)) continue;
+      consistent = true;
+      const int consistency = groups_[g].consistency + 1;
+      if (!carried[g]) {
+        now.push_back({group.keyframes, consistency});
+        carried[g] = true;
+      }
+      if (consistency >= options_.consistency && !counted) {
+        enough.push_back(c.keyframe);
+        counted = true;
+      }
+    }
+    if (!consistent) now.push_back({group.keyframes, 0});
+  }
+  groups_ = std::move(now);
+  return enough;
+}
+
+LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
+  LoopStepStats stats;
+  stats.keyframe = keyframe;
+  if (!options_.enabled) return stats;
+  Stopwatch watch;
+  Frame verified;
+  KeyframeId loop_keyframe = kNoKeyframe;
+  map_->Read([&](const MapData& map) {
+    const std::vector<KeyframeId> candidates = Detect(map, keyframe);
+    if (candidates.empty()) return;
+    stats.detected = true;
+    const Keyframe& k = map.keyframe(keyframe);
+    for (KeyframeId candidate : candidates) {
+      Frame frame(k.frame_id, k.timestamp_s, k.features);
+      frame.cam_from_world = k.cam_from_world;
+      if (relocalizer_.LocalizeAgainst(map, candidate, &frame)) {
+        verified = std::move(frame);
+        loop_keyframe = candidate;
+        return;
+      }
+    }
+  });
+  if (loop_keyframe != kNoKeyframe) {
+    map_->Write([&](MapData& map) { Correct(&map, keyframe, loop_keyframe, verified, &stats); });
+  }
+  stats.ms = watch.ElapsedMs();
+  return stats;
+}
+
+void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyframe,
+                         const Frame& verified, LoopStepStats* stats) {
+  if (!map->HasKeyframe(keyframe) || !map->HasKeyframe(loop_keyframe)) return;
+  std::map<KeyframeId, Rigid3d> old_pose;
+  for (const auto& [id, k] : map->keyframes()) old_pose[id] = k.cam_from_world;
+  const Rigid3d keyframe_old = old_pose.at(keyframe);
+  stats->correction_m =
+      (keyframe_old.Inverse().translation - verified.cam_from_world.Inverse().translation).norm();
+  stats->correction_deg =
+      RotationAngleRad(keyframe_old.rotation * verified.cam_from_world.rotation.conjugate()) *
+      180.0 / M_PI;
+
+  // 1. The keyframe and its covisibles move rigidly to the verified pose, their landmarks with
+  // them.
+  std::vector<KeyframeId> connected{keyframe};
+  for (const auto& [other, weight] : map->keyframe(keyframe).covisibility)
+    connected.push_back(other);
+  const std::set<KeyframeId> connected_set(connected.begin(), connected.end());
+  std::map<KeyframeId, std::set<KeyframeId>> old_neighbours;
+  std::map<KeyframeId, Rigid3d> corrected;
+  for (KeyframeId id : connected) {
+    corrected[id] = old_pose.at(id) * keyframe_old.Inverse() * verified.cam_from_world;
+    for (const auto& [other, weight] : map->keyframe(id).covisibility)
+      old_neighbours[id].insert(other);
+  }
+  std::set<LandmarkId> moved;
+  for (KeyframeId id : connected) {
+    for (LandmarkId lm : map->keyframe(id).landmarks) {
+      if (lm == kNoLandmark || !moved.insert(lm).second) continue;
+      Landmark& l = map->landmark(lm);
+      l.point_in_world = corrected[id].Inverse() * (old_pose.at(id) * l.point_in_world);
+    }
+  }
+  for (KeyframeId id : connected) map->keyframe(id).cam_from_world = corrected[id];
+
+  // 2. Fuse: the verified matches, then the neighbourhood (now reaching the loop's side).
+  for (size_t i = 0; i < verified.landmarks.size(); ++i) {
+    const LandmarkId loop_lm = verified.landmarks[i];
+    if (loop_lm == kNoLandmark || verified.outlier[i] || !map->HasLandmark(loop_lm)) continue;
+    const LandmarkId current = map->keyframe(keyframe).landmarks[i];
+    if (current == loop_lm) continue;
+    if (current != kNoLandmark) {
+      map->ReplaceLandmark(current, loop_lm);
+      ++stats->fused;
+    } else if (map->landmark(loop_lm).observations.count(keyframe) == 0) {
+      map->AddObservation(loop_lm, keyframe, static_cast<int>(i));
+      ++stats->fused;
+    }
+  }
+  map->UpdateConnections(keyframe);
+  const FuseStats fuse = FuseWithNeighbours(map, keyframe, sensor_, mapper_options_);
+  stats->fused += fuse.added_observations + fuse.merged;
+  for (KeyframeId id : connected) {
+    if (map->HasKeyframe(id)) map->UpdateConnections(id);
+  }
+  for (KeyframeId id : connected) {
+    if (!map->HasKeyframe(id)) continue;
+    for (const auto& [other, weight] : map->keyframe(id).covisibility) {
+      if (connected_set.count(other) || old_neighbours[id].count(other)) continue;
+      loop_edges_.insert({std::min(id, other), std::max(id, other)});
+    }
+  }
+  loop_edges_.insert({std::min(keyframe, loop_keyframe), std::max(keyframe, loop_keyframe)});
+
+  // 3. Essential graph.
+  std::map<uint64_t, Rigid3d> poses;
+  for (const auto& [id, k] : map->keyframes()) poses[id] = k.cam_from_world;
+  const std::map<uint64_t, Rigid3d> before = poses;
+  const auto old_or_now = [&](KeyframeId id) {
+    auto it = old_pose.find(id);
+    return it != old_pose.end() ? it->second : before.at(id);
+  };
+  std::vector<PoseGraphEdge> edges;
+  for (const auto& [id, k] : map->keyframes()) {
+    if (k.parent != kNoKeyframe && map->HasKeyframe(k.parent)) {
+      edges.push_back({k.parent, id, old_or_now(id) * old_or_now(k.parent).Inverse()});
+    }
+    for (const auto& [other, weight] : k.covisibility) {
+      if (other >= id || weight < options_.strong_covisibility || other == k.parent ||
+          k.children.count(other))
+        continue;
+      if (loop_edges_.count({other, id})) continue;
+      edges.push_back({other, id, old_or_now(id) * old_or_now(other).Inverse()});
+    }
+  }
+  for (const auto& [a, b] : loop_edges_) {
+    if (map->HasKeyframe(a) && map->HasKeyframe(b))
+      edges.push_back({a, b, before.at(b) * before.at(a).Inverse()});
+  }
+  PoseGraphOptions graph_options;
+  graph_options.max_iterations = options_.pose_graph_iterations;
+  OptimizePoseGraph(&poses, edges, {loop_keyframe}, graph_options);
+  for (const auto& [id, pose] : poses) map->keyframe(id).cam_from_world = pose;
+
+  // 4. Every landmark follows its reference keyframe.
+  std::vector<LandmarkId> landmark_ids;
+  for (const auto& [lm, l] : map->landmarks()) landmark_ids.push_back(lm);
+  for (LandmarkId lm : landmark_ids) {
+    Landmark& l = map->landmark(lm);
+    KeyframeId ref = l.reference_keyframe;
+    if (!map->HasKeyframe(ref)) {
+      if (l.observations.empty()) continue;
+      ref = l.observations.begin()->first;
+    }
+    l.point_in_world = poses.at(ref).Inverse() * (before.at(ref) * l.point_in_world);
+    map->UpdateLandmarkGeometry(lm);
+  }
+  map->NoteCorrection();
+  last_loop_keyframe_ = keyframe;
+  stats->closed = true;
+  stats->loop_keyframe = loop_keyframe;
+  stats->inliers = verified.NumMatches();
+}
+
+}  // namespace dynorb

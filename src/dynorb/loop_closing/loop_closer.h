@@ -1,0 +1,80 @@
+// LoopCloser: detects that the camera is back at a place mapped long ago and removes the drift
+// accumulated since (ORB-SLAM2's LoopClosing, in SE(3): an RGB-D map has metric scale).
+//
+// ProcessOne(keyframe), after the local mapper processed it:
+// 1. detection: keyframes that show the same place (map/place_candidates.h) but are not
+//    covisible with it, scoring at least as high as its least similar covisible keyframe; a
+//    candidate counts once its group (it and its covisibles) has been found for `consistency`
+//    consecutive keyframes;
+// 2. verification: the keyframe is localised against the candidate's landmarks and local map as
+//    in relocalisation (descriptor matches, EPnP RANSAC, pose-only BA, >= 50 inliers);
+// 3. correction: the keyframe and its covisibles move rigidly to the verified pose (their landmarks
+//    with them); the loop's matches and the neighbourhood's duplicates are fused; the essential
+//    graph (spanning tree, strong covisibility edges with old relative poses, loop edges with
+//    corrected ones) is optimised with the loop keyframe fixed (optimization/pose_graph.h), and
+//    every landmark follows its reference keyframe. The map's correction epoch is bumped so the
+//    tracker re-anchors its last frame.
+// Runs on the mapper's thread (parallel mode) or inline (sequential: deterministic).
+#pragma once
+
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "dynorb/map/map.h"
+#include "dynorb/mapping/mapper_options.h"
+#include "dynorb/tracking/relocalizer.h"
+
+namespace dynorb {
+
+struct LoopClosingOptions {
+  bool enabled = true;
+  int min_keyframes = 10;          // no loop in a map with fewer keyframes
+  int min_keyframes_between = 10;  // keyframe ids after a closed loop before the next
+  int consistency = 3;             // consecutive keyframes whose candidates must agree
+  int strong_covisibility = 100;   // covisibility edges of the essential graph (shared landmarks)
+  int pose_graph_iterations = 20;
+
+  void Validate() const;  // Throws InputError.
+};
+
+struct LoopStepStats {
+  KeyframeId keyframe = kNoKeyframe;
+  bool detected = false;  // a consistent candidate existed
+  bool closed = false;    // verified and corrected
+  KeyframeId loop_keyframe = kNoKeyframe;
+  int inliers = 0;
+  int fused = 0;
+  double correction_m = 0.0;  // how far the verified pose moved the keyframe's camera centre
+  double correction_deg = 0.0;
+  double ms = 0.0;
+};
+
+class LoopCloser {
+ public:
+  LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_options,
+             const LocalMapperOptions& mapper_options, const LoopClosingOptions& options, Map* map);
+
+  LoopStepStats ProcessOne(KeyframeId keyframe);
+
+ private:
+  struct Group {
+    std::set<KeyframeId> keyframes;
+    int consistency = 0;
+  };
+  std::vector<KeyframeId> Detect(const MapData& map, KeyframeId keyframe);
+  void Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyframe, const Frame& verified,
+               LoopStepStats* stats);
+
+  RgbdSensor sensor_;
+  LocalMapperOptions mapper_options_;
+  LoopClosingOptions options_;
+  Map* map_;
+  Relocalizer relocalizer_;
+  std::vector<Group> groups_;
+  KeyframeId last_loop_keyframe_ = kNoKeyframe;
+  std::set<std::pair<KeyframeId, KeyframeId>>
+      loop_edges_;  // (lower id, higher id), kept for later loops
+};
+
+}  // namespace dynorb
