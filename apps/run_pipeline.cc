@@ -70,6 +70,22 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "place first")
       .Add("vocabulary", vocabulary_path,
            "vocabulary file written by `dynorb vocab` (empty: the built-in one)");
+  LoopClosingOptions* l = &sys->loop_closing;
+  schema->Section("loop_closing", "Loop closing (docs/loop_closing.md)")
+      .Add("enabled", &l->enabled,
+           "detect revisited places and correct the drift (needs place_recognition)")
+      .Add("min_keyframes", &l->min_keyframes, "no loop in a map with fewer keyframes")
+      .Add("min_keyframes_between", &l->min_keyframes_between,
+           "keyframes after a closed loop before the next")
+      .Add("consistency", &l->consistency, "consecutive keyframes whose loop candidates must agree")
+      .Add("strong_covisibility", &l->strong_covisibility,
+           "covisibility edges with at least this many shared landmarks join the pose graph")
+      .Add("pose_graph_iterations", &l->pose_graph_iterations,
+           "Levenberg-Marquardt iterations of the pose graph")
+      .Add("min_agreement", &l->min_agreement,
+           "fraction of the loop side's landmarks in view the verified pose must find (a mover "
+           "seen again closes no loop)")
+      .OnLoaded([l] { l->Validate(); });
   schema->Section("tracking", "Tracker (docs/slam_core.md)")
       .Add("refill_filtered", &sys->refill_filtered,
            "after the dynamic filter removed keypoints, detect again outside the removed area")

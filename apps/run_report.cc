@@ -125,7 +125,8 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   nlohmann::json loops = nlohmann::json::array();
   int loops_closed = 0;
   for (const LoopStepStats& l : system.loop_stats()) {
-    nlohmann::json e = {{"keyframe", l.keyframe}, {"closed", l.closed}, {"ms", l.ms}};
+    nlohmann::json e = {
+        {"keyframe", l.keyframe}, {"closed", l.closed}, {"agreement", l.agreement}, {"ms", l.ms}};
     if (l.closed) {
       ++loops_closed;
       e["loop_keyframe"] = l.loop_keyframe;

@@ -7,6 +7,8 @@
 #include "dynorb/map/place_candidates.h"
 #include "dynorb/mapping/landmark_fuser.h"
 #include "dynorb/optimization/pose_graph.h"
+#include "dynorb/tracking/local_map.h"
+#include "dynorb/tracking/projection_search.h"
 
 namespace dynorb {
 namespace {
@@ -21,6 +23,8 @@ bool Intersects(const std::set<KeyframeId>& a, const std::set<KeyframeId>& b) {
 }  // namespace
 
 void LoopClosingOptions::Validate() const {
+  if (!(min_agreement >= 0.0 && min_agreement <= 1.0))
+    throw InputError("loop_closing: min_agreement must be in [0, 1]");
   if (min_keyframes < 2 || min_keyframes_between < 0 || consistency < 1 ||
       strong_covisibility < 1 || pose_graph_iterations < 1) {
     throw InputError(
@@ -33,6 +37,7 @@ LoopCloser::LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_o
                        const LocalMapperOptions& mapper_options, const LoopClosingOptions& options,
                        Map* map)
     : sensor_(sensor),
+      tracker_options_(tracker_options),
       mapper_options_(mapper_options),
       options_((options.Validate(), options)),
       map_(map),
@@ -57,6 +62,9 @@ std::vector<KeyframeId> LoopCloser::Detect(const MapData& map, KeyframeId keyfra
     if (map.HasKeyframe(other))
       min_score = std::min(min_score, BowScore(k.bow, map.keyframe(other).bow));
   }
+  // Keyframes the tracker inserted after this one (parallel mode) are its neighbours in time.
+  for (auto it = map.keyframes().upper_bound(keyframe); it != map.keyframes().end(); ++it)
+    excluded.insert(it->first);
   PlaceQueryOptions query;
   query.min_score = min_score;
   const std::vector<ScoredKeyframe> candidates = PlaceCandidates(map, k.bow, excluded, query);
@@ -88,6 +96,17 @@ std::vector<KeyframeId> LoopCloser::Detect(const MapData& map, KeyframeId keyfra
   return enough;
 }
 
+double LoopCloser::Agreement(const MapData& map, const Frame& verified) const {
+  Frame probe = verified;
+  const int matched = probe.NumMatches();
+  const LocalMap local = BuildLocalMap(map, probe, tracker_options_.max_local_keyframes);
+  std::vector<LandmarkId> visible;
+  SearchLocalMap(&probe, local, sensor_, tracker_options_.local_map_radius_factor,
+                 tracker_options_.matcher, &visible);
+  const int predicted = matched + static_cast<int>(visible.size());
+  return predicted > 0 ? static_cast<double>(probe.NumMatches()) / predicted : 0.0;
+}
+
 LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
   LoopStepStats stats;
   stats.keyframe = keyframe;
@@ -103,11 +122,13 @@ LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
     for (KeyframeId candidate : candidates) {
       Frame frame(k.frame_id, k.timestamp_s, k.features);
       frame.cam_from_world = k.cam_from_world;
-      if (relocalizer_.LocalizeAgainst(map, candidate, &frame)) {
-        verified = std::move(frame);
-        loop_keyframe = candidate;
-        return;
-      }
+      if (!relocalizer_.LocalizeAgainst(map, candidate, &frame)) continue;
+      const double agreement = Agreement(map, frame);
+      stats.agreement = std::max(stats.agreement, agreement);
+      if (agreement < options_.min_agreement) continue;
+      verified = std::move(frame);
+      loop_keyframe = candidate;
+      return;
     }
   });
   if (loop_keyframe != kNoKeyframe) {
@@ -130,7 +151,8 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
       180.0 / M_PI;
 
   // 1. The keyframe and its covisibles move rigidly to the verified pose, their landmarks with
-  // them.
+  //    them; `moved_by` remembers which keyframe's move each landmark followed (step 4 continues
+  //    from there, as ORB-SLAM2's mnCorrectedReference).
   std::vector<KeyframeId> connected{keyframe};
   for (const auto& [other, weight] : map->keyframe(keyframe).covisibility)
     connected.push_back(other);
@@ -142,17 +164,17 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
     for (const auto& [other, weight] : map->keyframe(id).covisibility)
       old_neighbours[id].insert(other);
   }
-  std::set<LandmarkId> moved;
+  std::map<LandmarkId, KeyframeId> moved_by;
   for (KeyframeId id : connected) {
     for (LandmarkId lm : map->keyframe(id).landmarks) {
-      if (lm == kNoLandmark || !moved.insert(lm).second) continue;
+      if (lm == kNoLandmark || !moved_by.emplace(lm, id).second) continue;
       Landmark& l = map->landmark(lm);
       l.point_in_world = corrected[id].Inverse() * (old_pose.at(id) * l.point_in_world);
     }
   }
   for (KeyframeId id : connected) map->keyframe(id).cam_from_world = corrected[id];
 
-  // 2. Fuse: the verified matches, then the neighbourhood (now reaching the loop's side).
+  // 2. Fuse: the verified matches, then the loop side's landmarks into every corrected keyframe.
   for (size_t i = 0; i < verified.landmarks.size(); ++i) {
     const LandmarkId loop_lm = verified.landmarks[i];
     if (loop_lm == kNoLandmark || verified.outlier[i] || !map->HasLandmark(loop_lm)) continue;
@@ -166,20 +188,44 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
       ++stats->fused;
     }
   }
-  map->UpdateConnections(keyframe);
-  const FuseStats fuse = FuseWithNeighbours(map, keyframe, sensor_, mapper_options_);
-  stats->fused += fuse.added_observations + fuse.merged;
-  for (KeyframeId id : connected) {
-    if (map->HasKeyframe(id)) map->UpdateConnections(id);
+  // The loop side's landmarks (the loop keyframe's and its covisibles') into every corrected
+  // keyframe (ORB-SLAM2's SearchAndFuse).
+  std::vector<LandmarkId> loop_landmarks;
+  {
+    std::set<LandmarkId> seen;
+    std::vector<KeyframeId> loop_side{loop_keyframe};
+    for (const auto& [other, weight] : map->keyframe(loop_keyframe).covisibility) {
+      if (!connected_set.count(other)) loop_side.push_back(other);
+    }
+    for (KeyframeId id : loop_side) {
+      for (LandmarkId lm : map->keyframe(id).landmarks) {
+        if (lm != kNoLandmark && seen.insert(lm).second) loop_landmarks.push_back(lm);
+      }
+    }
   }
   for (KeyframeId id : connected) {
     if (!map->HasKeyframe(id)) continue;
-    for (const auto& [other, weight] : map->keyframe(id).covisibility) {
-      if (connected_set.count(other) || old_neighbours[id].count(other)) continue;
-      loop_edges_.insert({std::min(id, other), std::max(id, other)});
-    }
+    const FuseStats fuse = FuseLandmarksInto(map, id, loop_landmarks, sensor_, mapper_options_);
+    stats->fused += fuse.added_observations + fuse.merged;
   }
-  loop_edges_.insert({std::min(keyframe, loop_keyframe), std::max(keyframe, loop_keyframe)});
+  for (KeyframeId id : connected) {
+    if (map->HasKeyframe(id)) map->UpdateConnections(id);
+  }
+  const auto add_loop_edge = [&](KeyframeId a, KeyframeId b) {
+    loop_edges_.insert({std::min(a, b), std::max(a, b)});
+    map->keyframe(a).keep = true;  // the next loop's pose graph needs both ends
+    map->keyframe(b).keep = true;
+  };
+  for (KeyframeId id : connected) {
+    if (!map->HasKeyframe(id)) continue;
+    std::vector<KeyframeId> new_links;
+    for (const auto& [other, weight] : map->keyframe(id).covisibility) {
+      if (!connected_set.count(other) && !old_neighbours[id].count(other))
+        new_links.push_back(other);
+    }
+    for (KeyframeId other : new_links) add_loop_edge(id, other);
+  }
+  add_loop_edge(keyframe, loop_keyframe);
 
   // 3. Essential graph.
   std::map<uint64_t, Rigid3d> poses;
@@ -211,12 +257,13 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
   OptimizePoseGraph(&poses, edges, {loop_keyframe}, graph_options);
   for (const auto& [id, pose] : poses) map->keyframe(id).cam_from_world = pose;
 
-  // 4. Every landmark follows its reference keyframe.
+  // 4. Every landmark follows the keyframe it moved with in step 1, or else its reference keyframe.
   std::vector<LandmarkId> landmark_ids;
   for (const auto& [lm, l] : map->landmarks()) landmark_ids.push_back(lm);
   for (LandmarkId lm : landmark_ids) {
     Landmark& l = map->landmark(lm);
-    KeyframeId ref = l.reference_keyframe;
+    const auto moved = moved_by.find(lm);
+    KeyframeId ref = moved != moved_by.end() ? moved->second : l.reference_keyframe;
     if (!map->HasKeyframe(ref)) {
       if (l.observations.empty()) continue;
       ref = l.observations.begin()->first;
@@ -224,7 +271,7 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
     l.point_in_world = poses.at(ref).Inverse() * (before.at(ref) * l.point_in_world);
     map->UpdateLandmarkGeometry(lm);
   }
-  map->NoteCorrection();
+  map->NoteCorrection(std::move(old_pose));
   last_loop_keyframe_ = keyframe;
   stats->closed = true;
   stats->loop_keyframe = loop_keyframe;

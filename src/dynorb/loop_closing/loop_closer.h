@@ -7,7 +7,8 @@
 //    candidate counts once its group (it and its covisibles) has been found for `consistency`
 //    consecutive keyframes;
 // 2. verification: the keyframe is localised against the candidate's landmarks and local map as
-//    in relocalisation (descriptor matches, EPnP RANSAC, pose-only BA, >= 50 inliers);
+//    in relocalisation (descriptor matches, EPnP RANSAC, pose-only BA, >= 50 inliers), and that
+//    pose must explain the loop side's local map (min_agreement of its landmarks in view found);
 // 3. correction: the keyframe and its covisibles move rigidly to the verified pose (their landmarks
 //    with them); the loop's matches and the neighbourhood's duplicates are fused; the essential
 //    graph (spanning tree, strong covisibility edges with old relative poses, loop edges with
@@ -34,6 +35,11 @@ struct LoopClosingOptions {
   int consistency = 3;             // consecutive keyframes whose candidates must agree
   int strong_covisibility = 100;   // covisibility edges of the essential graph (shared landmarks)
   int pose_graph_iterations = 20;
+  // The verified pose must explain the loop side's map, not only the matches it rests on: of the
+  // landmarks of the loop keyframe's local map predicted in view, at least this fraction must be
+  // found in the keyframe (a person who walked past the old place again gives a pose that fits
+  // the person's landmarks and none of the room's).
+  double min_agreement = 0.1;
 
   void Validate() const;  // Throws InputError.
 };
@@ -44,6 +50,7 @@ struct LoopStepStats {
   bool closed = false;    // verified and corrected
   KeyframeId loop_keyframe = kNoKeyframe;
   int inliers = 0;
+  double agreement = 0.0;  // of the best verified candidate (LoopClosingOptions::min_agreement)
   int fused = 0;
   double correction_m = 0.0;  // how far the verified pose moved the keyframe's camera centre
   double correction_deg = 0.0;
@@ -63,10 +70,13 @@ class LoopCloser {
     int consistency = 0;
   };
   std::vector<KeyframeId> Detect(const MapData& map, KeyframeId keyframe);
+  // Found / predicted landmarks of the verified frame's local map (the loop side) at its pose.
+  double Agreement(const MapData& map, const Frame& verified) const;
   void Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyframe, const Frame& verified,
                LoopStepStats* stats);
 
   RgbdSensor sensor_;
+  TrackerOptions tracker_options_;
   LocalMapperOptions mapper_options_;
   LoopClosingOptions options_;
   Map* map_;

@@ -26,6 +26,7 @@ struct Keyframe {
   KeyframeId parent = kNoKeyframe;                // Spanning tree.
   std::set<KeyframeId> children;
   BowVector bow;  // Bag of words (MapData::AddKeyframe, when the map has a vocabulary).
+  bool keep = false;  // Never culled (an end of a loop edge: the pose graph needs it later).
 
   Eigen::Vector3d CameraCenterInWorld() const { return cam_from_world.Inverse().translation; }
 };

@@ -30,7 +30,14 @@ class MapData {
   // Counts corrections that moved keyframes and landmarks at once (loop closures): a tracker
   // holding poses from before re-anchors them to their reference keyframes when it changes.
   uint64_t correction_epoch() const { return correction_epoch_; }
-  void NoteCorrection() { ++correction_epoch_; }
+  // `poses_before`: every keyframe's cam_from_world before the correction (kept until the next).
+  void NoteCorrection(std::map<KeyframeId, Rigid3d> poses_before) {
+    ++correction_epoch_;
+    poses_before_correction_ = std::move(poses_before);
+  }
+  const std::map<KeyframeId, Rigid3d>& poses_before_correction() const {
+    return poses_before_correction_;
+  }
 
   KeyframeId AddKeyframe(Keyframe keyframe);  // Assigns the id; landmarks vector sized to features.
   LandmarkId AddLandmark(Landmark landmark);  // Assigns the id.
@@ -87,6 +94,7 @@ class MapData {
   std::shared_ptr<const Vocabulary> vocabulary_;
   KeyframeDatabase database_;
   uint64_t correction_epoch_ = 0;
+  std::map<KeyframeId, Rigid3d> poses_before_correction_;
 };
 
 class Map {

@@ -100,4 +100,12 @@ FuseStats FuseWithNeighbours(MapData* map, KeyframeId keyframe, const RgbdSensor
   return stats;
 }
 
+FuseStats FuseLandmarksInto(MapData* map, KeyframeId target,
+                            const std::vector<LandmarkId>& landmarks, const RgbdSensor& sensor,
+                            const LocalMapperOptions& options) {
+  FuseStats stats;
+  FuseInto(map, target, landmarks, sensor, options, &stats);
+  return stats;
+}
+
 }  // namespace dynorb

@@ -20,4 +20,10 @@ struct FuseStats {
 FuseStats FuseWithNeighbours(MapData* map, KeyframeId keyframe, const RgbdSensor& sensor,
                              const LocalMapperOptions& options);
 
+// The same for a given set of landmarks projected into one keyframe (loop closing fuses the loop
+// side's landmarks into the corrected keyframes).
+FuseStats FuseLandmarksInto(MapData* map, KeyframeId target,
+                            const std::vector<LandmarkId>& landmarks, const RgbdSensor& sensor,
+                            const LocalMapperOptions& options);
+
 }  // namespace dynorb

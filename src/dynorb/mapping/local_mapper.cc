@@ -101,7 +101,7 @@ int LocalMapper::CullKeyframes(MapData* map, KeyframeId keyframe) {
   const std::vector<KeyframeId> local = map->keyframe(keyframe).ordered_covisibles;
   const KeyframeId root = map->keyframes().begin()->first;
   for (KeyframeId id : local) {
-    if (id == root || !map->HasKeyframe(id)) continue;
+    if (id == root || !map->HasKeyframe(id) || map->keyframe(id).keep) continue;
     const Keyframe& kf = map->keyframe(id);
     const FrameFeatures& f = *kf.features;
     int close = 0, redundant = 0;

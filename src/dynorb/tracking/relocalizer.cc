@@ -41,7 +41,10 @@ std::vector<KeyframeId> Relocalizer::Candidates(const MapData& map,
   if (map.vocabulary() != nullptr && options_.relocalization_place_candidates > 0) {
     const BowVector bow = map.vocabulary()->Transform(features.descriptors());
     for (const ScoredKeyframe& s : PlaceCandidates(map, bow)) {
-      if (static_cast<int>(candidates.size()) >= options_.relocalization_place_candidates) break;
+      if (static_cast<int>(candidates.size()) >=
+          std::min(options_.relocalization_place_candidates, options_.relocalization_candidates)) {
+        break;
+      }
       candidates.push_back(s.keyframe);
     }
   }

@@ -100,6 +100,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   result.state = state_;
   result.num_inliers = inliers;
   if (ok) {
+    map_->Read([&](const MapData& map) { AdaptToCorrectionDuringFrame(map, &frame); });
     if (last_frame_.features) velocity_ = frame.cam_from_world * last_frame_.cam_from_world.Inverse();
     UpdateCentreVelocity(frame, result.relocalized);
     result.pose_valid = true;
@@ -144,13 +145,33 @@ void Tracker::ReanchorAfterCorrection() {
     if (map.correction_epoch() == seen_correction_epoch_) return;
     seen_correction_epoch_ = map.correction_epoch();
     // A loop closure moved the map: the last frame keeps its pose relative to its reference
-    // keyframe.
-    if (map.HasKeyframe(last_reference_keyframe_)) {
+    // keyframe (or, if that was culled, to the keyframe it was folded into).
+    if (last_reference_keyframe_ != kNoKeyframe) {
       last_frame_.cam_from_world =
-          last_from_reference_ * map.keyframe(last_reference_keyframe_).cam_from_world;
+          last_from_reference_ * map.ResolveKeyframePose(last_reference_keyframe_);
     }
     centre_model_.Reset();
   });
+}
+
+void Tracker::AdaptToCorrectionDuringFrame(const MapData& map, Frame* frame) {
+  if (map.correction_epoch() == seen_correction_epoch_) return;
+  const auto& before = map.poses_before_correction();
+  const auto it = before.find(frame->reference_keyframe);
+  if (map.correction_epoch() == seen_correction_epoch_ + 1 && it != before.end() &&
+      map.HasKeyframe(frame->reference_keyframe)) {
+    const Rigid3d old_from_new =
+        it->second.Inverse() * map.keyframe(frame->reference_keyframe).cam_from_world;
+    frame->cam_from_world = frame->cam_from_world * old_from_new;
+    last_frame_.cam_from_world = last_frame_.cam_from_world * old_from_new;
+    for (size_t i = 0; i < frame->landmarks.size(); ++i) {
+      if (frame->landmarks[i] != kNoLandmark && map.HasLandmark(frame->landmarks[i])) {
+        frame->landmark_points[i] = map.landmark(frame->landmarks[i]).point_in_world;
+      }
+    }
+    seen_correction_epoch_ = map.correction_epoch();
+    centre_model_.Reset();
+  }
 }
 
 Rigid3d Tracker::LastFramePoseNow() const {
@@ -360,10 +381,11 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
   for (int i = 0; i < f.size(); ++i) {
     if (f.HasDepth(i)) by_depth.push_back(i);
   }
-  std::stable_sort(by_depth.begin(), by_depth.end(), [&f](int a, int b) { return f.depth(a) < f.depth(b); });
-  const Rigid3d world_from_cam = frame->cam_from_world.Inverse();
-
+  std::stable_sort(by_depth.begin(), by_depth.end(),
+                   [&f](int a, int b) { return f.depth(a) < f.depth(b); });
   const KeyframeId id = map_->Write([&](MapData& map) {
+    AdaptToCorrectionDuringFrame(map, frame);
+    const Rigid3d world_from_cam = frame->cam_from_world.Inverse();
     Keyframe kf;
     kf.frame_id = frame->id;
     kf.timestamp_s = frame->timestamp_s;
@@ -373,7 +395,8 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
     for (size_t i = 0; i < frame->landmarks.size(); ++i) {
       const LandmarkId lm = frame->landmarks[i];
       if (lm == kNoLandmark || frame->outlier[i] || !map.HasLandmark(lm)) continue;
-      if (map.landmark(lm).observations.count(kf_id) == 0) map.AddObservation(lm, kf_id, static_cast<int>(i));
+      if (map.landmark(lm).observations.count(kf_id) == 0)
+        map.AddObservation(lm, kf_id, static_cast<int>(i));
     }
     int points = 0;
     for (int i : by_depth) {
@@ -392,7 +415,8 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
         if (created != nullptr) created->push_back(i);
       }
       ++points;
-      if (!all_depth_points && f.depth(i) > sensor_.th_depth_m && points > options_.new_close_points) break;
+      if (!all_depth_points && f.depth(i) > sensor_.th_depth_m && points > options_.new_close_points)
+        break;
     }
     map.UpdateConnections(kf_id);
     return kf_id;
