@@ -19,6 +19,7 @@
 #include "dynorb/core/error.h"
 #include "dynorb/core/timer.h"
 #include "dynorb/features/orb_extractor.h"
+#include "dynorb/io/atomic_file.h"
 #include "dynorb/place_recognition/vocabulary.h"
 
 namespace dynorb {
@@ -72,6 +73,7 @@ void RunVocab(const VocabCliOptions& cli) {
   OrbOptions orb_options;
   orb_options.n_features = cli.features;
   const OrbExtractor extractor(orb_options);
+  AtomicFile out(cli.out_path);  // Checks the output folder before minutes of training.
   const std::vector<std::string> paths = ImagePaths(cli.inputs);
   Stopwatch watch;
   std::vector<cv::Mat> descriptors;
@@ -84,7 +86,8 @@ void RunVocab(const VocabCliOptions& cli) {
   }
   const double extract_s = (watch.ElapsedMs() / 1000.0);
   const Vocabulary vocabulary = Vocabulary::Train(descriptors, cli.vocabulary);
-  vocabulary.Save(cli.out_path);
+  out.stream() << vocabulary.ToBytes();
+  out.Commit();
   std::cout << "wrote " << cli.out_path << ": " << vocabulary.NumWords() << " words (branching "
             << vocabulary.branching() << ", " << vocabulary.levels() << " levels) from " << total
             << " descriptors of " << paths.size() << " images (extraction " << extract_s
@@ -105,6 +108,11 @@ const bool kRegistered = RegisterCommand("vocab", 90, [](CLI::App& app) {
   cmd->add_option("--iterations", v.kmeans_iterations, "k-means iterations per node")
       ->capture_default_str();
   cmd->add_option("--seed", v.seed, "random seed of the k-means++ seeding")->capture_default_str();
+  cmd->add_option(
+         "--max-cluster-descriptors", v.max_cluster_descriptors,
+         "cluster at most this many descriptors (an even subsample; idf still counts every image)")
+      ->check(CLI::Range(100, 100000000))
+      ->capture_default_str();
   cmd->add_option("--features", opts->features, "ORB keypoints per image")
       ->check(CLI::Range(10, 100000))
       ->capture_default_str();

@@ -23,6 +23,14 @@ printf 'place_recognition:\n  vocabulary: %s\n' "$DIR/v.dynvoc" >>"$DIR/with_voc
   fail "run with the vocabulary: exit code $?"
 grep -q "vocabulary: .*v.dynvoc" "$DIR/run/effective_config.yaml" || fail "effective_config.yaml does not name the vocabulary"
 
+# The loop_closing: section: switched off, and its values checked.
+cp "$SEQ/camera.yaml" "$DIR/no_loops.yaml"
+printf 'loop_closing:\n  enabled: false\n  min_agreement: 0.2\n' >>"$DIR/no_loops.yaml"
+"$DYNORB" run --dataset "$SEQ" --config "$DIR/no_loops.yaml" --out "$DIR/no_loops" --quiet >/dev/null 2>&1 ||
+  fail "run with loop_closing: {enabled: false}: exit code $?"
+grep -q "min_agreement: 0.2" "$DIR/no_loops/effective_config.yaml" || fail "effective_config.yaml lacks loop_closing.min_agreement"
+grep -q '"loops_closed": 0' "$DIR/no_loops/stats.json" || fail "stats.json lacks loops_closed"
+
 # Bad input: one message naming the problem, exit code 2, nothing written.
 expect_error() {  # expect_error WHAT PATTERN OUTPUT_PATH command...
   local what=$1 pattern=$2 written=$3
@@ -49,5 +57,12 @@ cp "$SEQ/camera.yaml" "$DIR/bad_vocab.yaml"
 printf 'place_recognition:\n  vocabulary: %s\n' "$DIR/truncated.dynvoc" >>"$DIR/bad_vocab.yaml"
 expect_error "truncated vocabulary" "$DIR/truncated.dynvoc: vocabulary file is corrupt" "$DIR/bad_run/stats.json" \
   "$DYNORB" run --dataset "$SEQ" --config "$DIR/bad_vocab.yaml" --out "$DIR/bad_run" --quiet
+
+cp "$SEQ/camera.yaml" "$DIR/bad_agreement.yaml"
+printf 'loop_closing:\n  min_agreement: 2\n' >>"$DIR/bad_agreement.yaml"
+expect_error "min_agreement 2" "min_agreement must be in \[0, 1\]" "$DIR/bad_agreement_run/stats.json" \
+  "$DYNORB" run --dataset "$SEQ" --config "$DIR/bad_agreement.yaml" --out "$DIR/bad_agreement_run" --quiet
+expect_error "output folder missing" "output directory does not exist" "$DIR/nodir/v.dynvoc" \
+  "$DYNORB" vocab --images "$SEQ/rgb" --out "$DIR/nodir/v.dynvoc"
 
 finish "vocab checks"

@@ -151,15 +151,24 @@ void VocabularyOptions::Validate() const {
     throw InputError("vocabulary branching^levels must be at most 1e7 words");
   }
   if (kmeans_iterations < 1) throw InputError("vocabulary kmeans_iterations must be >= 1");
+  if (max_cluster_descriptors < branching)
+    throw InputError("vocabulary max_cluster_descriptors must be >= branching");
 }
 
 Vocabulary Vocabulary::Train(const std::vector<cv::Mat>& descriptors_per_image,
                              const VocabularyOptions& options) {
   options.Validate();
   for (const cv::Mat& d : descriptors_per_image) CheckDescriptors(d, "vocabulary training");
+  int total = 0;
+  for (const cv::Mat& d : descriptors_per_image) total += d.rows;
+  const int stride =
+      std::max(1, (total + options.max_cluster_descriptors - 1) / options.max_cluster_descriptors);
   cv::Mat all;
+  int row = 0;
   for (const cv::Mat& d : descriptors_per_image) {
-    if (!d.empty()) all.push_back(d);
+    for (int r = 0; r < d.rows; ++r, ++row) {
+      if (row % stride == 0) all.push_back(d.row(r));
+    }
   }
   if (all.rows < options.branching) {
     throw InputError("vocabulary training needs at least " + std::to_string(options.branching) +

@@ -33,6 +33,9 @@ struct VocabularyOptions {
   int levels = 4;      // depth of the leaves (1..8); at most branching^levels words
   int kmeans_iterations = 10;
   uint64_t seed = 1;
+  // At most this many descriptors are clustered (every k-th, k = ceil(total / max)): clustering
+  // holds each as 256 floats (1 KB). The idf weights count every image's descriptors.
+  int max_cluster_descriptors = 500000;
 
   // Throws InputError on out-of-range values.
   void Validate() const;

@@ -79,6 +79,17 @@ TEST(Vocabulary, SeparatedClustersBecomeOneWordEach) {
   EXPECT_EQ(words.size(), 8u);
 }
 
+TEST(Vocabulary, ClustersAnEvenSubsampleButCountsEveryImage) {
+  const Clustered c = EightClusters();  // 14 images x 40 descriptors
+  VocabularyOptions o = Flat(8);
+  o.max_cluster_descriptors = 100;  // every 6th descriptor is clustered
+  const Vocabulary v = Vocabulary::Train(c.images, o);
+  EXPECT_EQ(v.NumWords(), 8);
+  EXPECT_NEAR(v.idf(v.Word(c.prototypes.ptr<uint8_t>(1))), std::log(14.0 / 2.0), 1e-6);
+  o.max_cluster_descriptors = 4;
+  testing::ExpectInputError([&] { o.Validate(); }, "max_cluster_descriptors");
+}
+
 TEST(Vocabulary, IdfIsZeroForAWordInEveryImageAndLogNForARareOne) {
   const Clustered c = EightClusters();
   const Vocabulary v = Vocabulary::Train(c.images, Flat(8));
