@@ -333,12 +333,8 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
     }
   }
   if (result.pose_valid) {
-    const Rigid3d reference_pose = map_.Read([&](const MapData& map) {
-      return map.HasKeyframe(result.reference_keyframe)
-                 ? map.keyframe(result.reference_keyframe).cam_from_world
-                 : map.ResolveKeyframePose(result.reference_keyframe);
-    });
-    record->cam_from_reference = result.cam_from_world * reference_pose.Inverse();
+    // From the tracker, in the same map state as the pose (a loop correction may come between).
+    record->cam_from_reference = result.cam_from_reference;
     // Motion prediction for the next frame's filter: cam_k_from_cam_{k-1}.
     const FrameRecord* previous = records_.empty() ? nullptr : &records_.back();
     last_velocity_.reset();

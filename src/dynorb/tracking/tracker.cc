@@ -64,6 +64,8 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     result.state = state_;
     result.cam_from_world = frame.cam_from_world;
     result.reference_keyframe = reference_keyframe_;
+    // The frame is its reference keyframe (same pose).
+    result.cam_from_reference = frame.cam_from_world * frame.cam_from_world.Inverse();
     if (state_ == TrackingState::kOk) last_frame_ = std::move(frame);
     return result;
   }
@@ -117,13 +119,19 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     }
     result.reference_keyframe = reference_keyframe_;
     {
+      // In one read: a correction committed since the keyframe decision moves this frame first,
+      // so its pose relative to the reference keyframe is the corrected map's.
       last_reference_keyframe_ = reference_keyframe_;
       last_from_reference_ = map_->Read([&](const MapData& map) {
-        return map.HasKeyframe(reference_keyframe_)
-                   ? frame.cam_from_world *
-                         map.keyframe(reference_keyframe_).cam_from_world.Inverse()
-                   : Rigid3d();
+        AdaptToCorrectionDuringFrame(map, &frame);
+        if (reference_keyframe_ == kNoKeyframe) return Rigid3d();
+        return frame.cam_from_world * (map.HasKeyframe(reference_keyframe_)
+                                           ? map.keyframe(reference_keyframe_).cam_from_world
+                                           : map.ResolveKeyframePose(reference_keyframe_))
+                                          .Inverse();
       });
+      result.cam_from_world = frame.cam_from_world;
+      result.cam_from_reference = last_from_reference_;
     }
     last_frame_ = std::move(frame);
   } else {

@@ -30,6 +30,7 @@ struct TrackingResult {
   bool pose_valid = false;
   Rigid3d cam_from_world;
   KeyframeId reference_keyframe = kNoKeyframe;
+  Rigid3d cam_from_reference;  // When pose_valid: the pose relative to reference_keyframe.
   KeyframeId new_keyframe = kNoKeyframe;  // Set when this frame became a keyframe.
   int num_inliers = 0;
   bool relocalized = false;
