@@ -14,30 +14,31 @@ std::vector<ScoredKeyframe> PlaceCandidates(const MapData& map, const BowVector&
     if (!map.HasKeyframe(s.keyframe) || s.score < options.min_score) continue;
     score[s.keyframe] = s.score;
   }
-  std::map<KeyframeId, ScoredKeyframe> best_of_group;  // representative -> accumulated score
+  // Each scored keyframe's group, represented by its best-scoring member, with the group's
+  // accumulated score.
+  std::vector<ScoredKeyframe> groups;
   double best_accumulated = 0.0;
-  std::vector<std::pair<KeyframeId, ScoredKeyframe>> groups;
   for (const auto& [kf, s] : score) {
-    double accumulated = s;
-    KeyframeId best = kf;
+    ScoredKeyframe group{kf, s, 0};
     double best_score = s;
     for (KeyframeId other : map.BestCovisibles(kf, options.group_covisibles)) {
       auto it = score.find(other);
       if (it == score.end()) continue;
-      accumulated += it->second;
-      if (it->second > best_score || (it->second == best_score && other < best)) {
+      group.score += it->second;
+      if (it->second > best_score || (it->second == best_score && other < group.keyframe)) {
         best_score = it->second;
-        best = other;
+        group.keyframe = other;
       }
     }
-    groups.push_back({best, {best, accumulated, 0}});
-    best_accumulated = std::max(best_accumulated, accumulated);
+    groups.push_back(group);
+    best_accumulated = std::max(best_accumulated, group.score);
   }
-  for (const auto& [representative, group] : groups) {
+  std::map<KeyframeId, ScoredKeyframe> best_of_group;  // representative -> its best group
+  for (const ScoredKeyframe& group : groups) {
     if (group.score < options.min_group_fraction * best_accumulated) continue;
-    auto it = best_of_group.find(representative);
+    auto it = best_of_group.find(group.keyframe);
     if (it == best_of_group.end() || it->second.score < group.score)
-      best_of_group[representative] = group;
+      best_of_group[group.keyframe] = group;
   }
   std::vector<ScoredKeyframe> out;
   for (const auto& [kf, group] : best_of_group) out.push_back(group);
