@@ -147,10 +147,14 @@ void MapData::UpdateConnections(KeyframeId kf, int min_weight) {
       if (other != kf) ++counts[other];
     }
   }
-  // Remove old edges on the other side.
+  // Remove old edges on the other side (both its weights and its order: a keyframe no longer
+  // covisible must not stay among the other's best covisibles, it may be erased later).
   for (const auto& [other, w] : k.covisibility) {
     auto it = keyframes_.find(other);
-    if (it != keyframes_.end()) it->second.covisibility.erase(kf);
+    if (it == keyframes_.end()) continue;
+    it->second.covisibility.erase(kf);
+    std::vector<KeyframeId>& order = it->second.ordered_covisibles;
+    order.erase(std::remove(order.begin(), order.end(), kf), order.end());
   }
   k.covisibility.clear();
   if (counts.empty()) {
@@ -214,6 +218,48 @@ void MapData::EraseKeyframe(KeyframeId kf) {
   if (k.parent != kNoKeyframe) keyframes_.at(k.parent).children.erase(kf);
   erased_[kf] = {new_parent, k.cam_from_world * keyframes_.at(new_parent).cam_from_world.Inverse()};
   keyframes_.erase(it);
+}
+
+std::string MapData::FirstInconsistency() const {
+  const auto kf_name = [](KeyframeId id) { return "keyframe " + std::to_string(id); };
+  for (const auto& [id, k] : keyframes_) {
+    for (size_t i = 0; i < k.landmarks.size(); ++i) {
+      const LandmarkId lm = k.landmarks[i];
+      if (lm == kNoLandmark) continue;
+      const auto it = landmarks_.find(lm);
+      if (it == landmarks_.end()) return kf_name(id) + " refers to erased landmark " + std::to_string(lm);
+      const auto obs = it->second.observations.find(id);
+      if (obs == it->second.observations.end() || obs->second != static_cast<int>(i))
+        return kf_name(id) + " keypoint " + std::to_string(i) + ": landmark " + std::to_string(lm) +
+               " does not list it";
+    }
+    for (const auto& [other, w] : k.covisibility) {
+      if (!HasKeyframe(other)) return kf_name(id) + " covisible with erased " + kf_name(other);
+      if (keyframes_.at(other).covisibility.count(id) == 0)
+        return kf_name(id) + " covisible with " + kf_name(other) + " but not the other way";
+    }
+    if (k.ordered_covisibles.size() != k.covisibility.size())
+      return kf_name(id) + ": ordered covisibles differ from its covisibility";
+    for (KeyframeId other : k.ordered_covisibles) {
+      if (k.covisibility.count(other) == 0)
+        return kf_name(id) + " orders " + kf_name(other) + " among its covisibles but has no edge";
+    }
+    if (k.parent != kNoKeyframe && !HasKeyframe(k.parent))
+      return kf_name(id) + " has erased parent " + kf_name(k.parent);
+    for (KeyframeId child : k.children) {
+      if (!HasKeyframe(child) || keyframes_.at(child).parent != id)
+        return kf_name(id) + " lists child " + kf_name(child) + " that is not its child";
+    }
+  }
+  for (const auto& [lm, l] : landmarks_) {
+    for (const auto& [kf, index] : l.observations) {
+      if (!HasKeyframe(kf)) return "landmark " + std::to_string(lm) + " observed by erased " + kf_name(kf);
+      const Keyframe& k = keyframes_.at(kf);
+      if (index < 0 || static_cast<size_t>(index) >= k.landmarks.size() || k.landmarks[index] != lm)
+        return "landmark " + std::to_string(lm) + ": " + kf_name(kf) + " does not list it";
+    }
+  }
+  return "";
 }
 
 Rigid3d MapData::ResolveKeyframePose(KeyframeId kf) const {

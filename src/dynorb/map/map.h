@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
+#include <string>
 #include <vector>
 
 #include "dynorb/map/keyframe.h"
@@ -83,6 +84,9 @@ class MapData {
   void EraseKeyframe(KeyframeId kf);
   // cam_from_world of a keyframe, also of an erased one (through its parent chain at erase time).
   Rigid3d ResolveKeyframePose(KeyframeId kf) const;
+  // The first broken link between keyframes, landmarks and graph edges ("" if none): for tests
+  // and debugging.
+  std::string FirstInconsistency() const;
 
  private:
   std::map<KeyframeId, Keyframe> keyframes_;

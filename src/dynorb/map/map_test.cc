@@ -212,6 +212,28 @@ TEST_F(MapDataTest, EraseKeyframeReparentsAndCleans) {
   EXPECT_TRUE(map_.HasKeyframe(ids_[0]));
 }
 
+TEST_F(MapDataTest, AnEdgeDroppedByUpdateConnectionsLeavesBothSidesOrders) {
+  EXPECT_EQ(map_.FirstInconsistency(), "");
+  // Keyframe 2 stops seeing what it shared with keyframe 1 (e.g. fused away by loop closing).
+  for (int index = 35; index < 55; ++index) {
+    const LandmarkId lm = map_.keyframe(ids_[2]).landmarks[index];
+    if (lm != kNoLandmark) map_.EraseObservation(lm, ids_[2]);
+  }
+  map_.UpdateConnections(ids_[2]);
+  EXPECT_EQ(map_.keyframe(ids_[1]).covisibility.count(ids_[2]), 0u);
+  EXPECT_EQ(map_.BestCovisibles(ids_[1], 10), (std::vector<KeyframeId>{ids_[0]}));
+  EXPECT_EQ(map_.FirstInconsistency(), "");
+  map_.EraseKeyframe(ids_[2]);
+  EXPECT_EQ(map_.BestCovisibles(ids_[1], 10), (std::vector<KeyframeId>{ids_[0]}));
+  EXPECT_EQ(map_.FirstInconsistency(), "");
+}
+
+TEST_F(MapDataTest, FirstInconsistencyNamesABrokenLink) {
+  map_.keyframe(ids_[1]).ordered_covisibles.push_back(ids_[1] + 7);
+  EXPECT_NE(map_.FirstInconsistency().find("keyframe 1"), std::string::npos)
+      << map_.FirstInconsistency();
+}
+
 TEST(Map, ReadWriteUnderOneLock) {
   Map map;
   const KeyframeId id = map.Write([](MapData& d) {
