@@ -28,7 +28,8 @@ KeyframeId MapData::AddKeyframe(Keyframe keyframe) {
   keyframe.id = next_keyframe_id_++;
   keyframe.landmarks.assign(keyframe.features ? keyframe.features->size() : 0, kNoLandmark);
   if (vocabulary_ && keyframe.features) {
-    keyframe.bow = vocabulary_->Transform(keyframe.features->descriptors());
+    if (keyframe.bow.empty())
+      keyframe.bow = vocabulary_->Transform(keyframe.features->descriptors());
     database_.Add(keyframe.id, keyframe.bow);
   }
   const KeyframeId id = keyframe.id;
@@ -227,7 +228,8 @@ std::string MapData::FirstInconsistency() const {
       const LandmarkId lm = k.landmarks[i];
       if (lm == kNoLandmark) continue;
       const auto it = landmarks_.find(lm);
-      if (it == landmarks_.end()) return kf_name(id) + " refers to erased landmark " + std::to_string(lm);
+      if (it == landmarks_.end())
+        return kf_name(id) + " refers to erased landmark " + std::to_string(lm);
       const auto obs = it->second.observations.find(id);
       if (obs == it->second.observations.end() || obs->second != static_cast<int>(i))
         return kf_name(id) + " keypoint " + std::to_string(i) + ": landmark " + std::to_string(lm) +
@@ -253,7 +255,8 @@ std::string MapData::FirstInconsistency() const {
   }
   for (const auto& [lm, l] : landmarks_) {
     for (const auto& [kf, index] : l.observations) {
-      if (!HasKeyframe(kf)) return "landmark " + std::to_string(lm) + " observed by erased " + kf_name(kf);
+      if (!HasKeyframe(kf))
+        return "landmark " + std::to_string(lm) + " observed by erased " + kf_name(kf);
       const Keyframe& k = keyframes_.at(kf);
       if (index < 0 || static_cast<size_t>(index) >= k.landmarks.size() || k.landmarks[index] != lm)
         return "landmark " + std::to_string(lm) + ": " + kf_name(kf) + " does not list it";

@@ -27,6 +27,7 @@ class MapData {
     vocabulary_ = std::move(vocabulary);
   }
   const Vocabulary* vocabulary() const { return vocabulary_.get(); }
+  const std::shared_ptr<const Vocabulary>& shared_vocabulary() const { return vocabulary_; }
   const KeyframeDatabase& keyframe_database() const { return database_; }
   // Counts corrections that moved keyframes and landmarks at once (loop closures): a tracker
   // holding poses from before re-anchors them to their reference keyframes when it changes.
@@ -40,7 +41,9 @@ class MapData {
     return poses_before_correction_;
   }
 
-  KeyframeId AddKeyframe(Keyframe keyframe);  // Assigns the id; landmarks vector sized to features.
+  // Assigns the id; landmarks vector sized to features. With a vocabulary, a keyframe that comes
+  // without its bag of words gets it here (callers compute it before taking the lock).
+  KeyframeId AddKeyframe(Keyframe keyframe);
   LandmarkId AddLandmark(Landmark landmark);  // Assigns the id.
 
   bool HasKeyframe(KeyframeId id) const { return keyframes_.count(id) != 0; }

@@ -391,6 +391,11 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
   }
   std::stable_sort(by_depth.begin(), by_depth.end(),
                    [&f](int a, int b) { return f.depth(a) < f.depth(b); });
+  // The bag of words outside the write lock (~0.25 ms the mapper would otherwise wait).
+  const std::shared_ptr<const Vocabulary> vocabulary =
+      map_->Read([](const MapData& map) { return map.shared_vocabulary(); });
+  BowVector bow;
+  if (vocabulary) bow = vocabulary->Transform(f.descriptors());
   const KeyframeId id = map_->Write([&](MapData& map) {
     AdaptToCorrectionDuringFrame(map, frame);
     const Rigid3d world_from_cam = frame->cam_from_world.Inverse();
@@ -399,6 +404,7 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
     kf.timestamp_s = frame->timestamp_s;
     kf.cam_from_world = frame->cam_from_world;
     kf.features = frame->features;
+    kf.bow = std::move(bow);
     const KeyframeId kf_id = map.AddKeyframe(std::move(kf));
     for (size_t i = 0; i < frame->landmarks.size(); ++i) {
       const LandmarkId lm = frame->landmarks[i];
