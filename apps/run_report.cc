@@ -139,6 +139,22 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   }
   j["loops_closed"] = loops_closed;
   j["loop_detections"] = loops;
+  // Global bundle adjustments after the loops (committed: not stopped by a newer loop).
+  nlohmann::json gbas = nlohmann::json::array();
+  for (const GlobalBaStats& g : system.global_ba_stats()) {
+    gbas.push_back({{"committed", g.committed},
+                    {"keyframes", g.keyframes},
+                    {"landmarks", g.landmarks},
+                    {"observations", g.observations},
+                    {"outlier_observations", g.outlier_observations},
+                    {"removed_observations", g.removed_observations},
+                    {"propagated_keyframes", g.propagated_keyframes},
+                    {"propagated_landmarks", g.propagated_landmarks},
+                    {"initial_cost", g.initial_cost},
+                    {"final_cost", g.final_cost},
+                    {"ms", g.ms}});
+  }
+  j["global_bundle_adjustments"] = gbas;
   j["wall_seconds"] = inputs.wall_seconds;
   j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
   // CPU of every thread over the same span (without --preload it includes decoding the PNGs): what

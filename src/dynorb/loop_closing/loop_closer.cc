@@ -26,10 +26,10 @@ void LoopClosingOptions::Validate() const {
   if (!(min_agreement >= 0.0 && min_agreement <= 1.0))
     throw InputError("loop_closing: min_agreement must be in [0, 1]");
   if (min_keyframes < 2 || min_keyframes_between < 0 || consistency < 1 ||
-      strong_covisibility < 1 || pose_graph_iterations < 1) {
+      strong_covisibility < 1 || pose_graph_iterations < 1 || global_ba_iterations < 1) {
     throw InputError(
         "loop_closing: min_keyframes must be >= 2, min_keyframes_between >= 0, consistency >= 1, "
-        "strong_covisibility >= 1 and pose_graph_iterations >= 1");
+        "strong_covisibility >= 1, pose_graph_iterations >= 1 and global_ba_iterations >= 1");
   }
 }
 
@@ -42,6 +42,40 @@ LoopCloser::LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_o
       options_((options.Validate(), options)),
       map_(map),
       relocalizer_(sensor, tracker_options) {}
+
+LoopCloser::~LoopCloser() { WaitForGlobalBa(); }
+
+void LoopCloser::WaitForGlobalBa() {
+  if (global_ba_thread_.joinable()) global_ba_thread_.join();
+}
+
+void LoopCloser::StopGlobalBa() {
+  stop_global_ba_ = true;
+  WaitForGlobalBa();
+  stop_global_ba_ = false;
+}
+
+std::vector<GlobalBaStats> LoopCloser::global_ba_stats() const {
+  std::lock_guard<std::mutex> lock(global_ba_mutex_);
+  return global_ba_stats_;
+}
+
+void LoopCloser::StartGlobalBa() {
+  BundleAdjusterOptions ba = mapper_options_.bundle_adjustment;
+  // The local BA's robust stage, then global_ba_iterations without the outliers.
+  ba.second_iterations = options_.global_ba_iterations;
+  ba.stop = &stop_global_ba_;
+  const auto run = [this, ba] {
+    const GlobalBaStats stats = RunGlobalBundleAdjustment(map_, sensor_, ba);
+    std::lock_guard<std::mutex> lock(global_ba_mutex_);
+    global_ba_stats_.push_back(stats);
+  };
+  if (options_.global_ba_in_background) {
+    global_ba_thread_ = std::thread(run);
+  } else {
+    run();
+  }
+}
 
 std::vector<KeyframeId> LoopCloser::Detect(const MapData& map, KeyframeId keyframe) {
   std::vector<KeyframeId> enough;
@@ -132,7 +166,9 @@ LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
     }
   });
   if (loop_keyframe != kNoKeyframe) {
+    StopGlobalBa();  // its result would be for the map before this loop
     map_->Write([&](MapData& map) { Correct(&map, keyframe, loop_keyframe, verified, &stats); });
+    if (stats.closed && options_.global_ba) StartGlobalBa();
   }
   stats.ms = watch.ElapsedMs();
   return stats;

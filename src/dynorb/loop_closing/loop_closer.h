@@ -15,13 +15,19 @@
 //    corrected ones) is optimised with the loop keyframe fixed (optimization/pose_graph.h), and
 //    every landmark follows its reference keyframe. The map's correction epoch is bumped so the
 //    tracker re-anchors its last frame.
+// 4. global bundle adjustment (global_bundle_adjustment.h): inline in sequential mode
+//    (deterministic), on a thread of its own in parallel mode (a new loop stops it).
 // Runs on the mapper's thread (parallel mode) or inline (sequential: deterministic).
 #pragma once
 
+#include <atomic>
+#include <mutex>
 #include <set>
+#include <thread>
 #include <utility>
 #include <vector>
 
+#include "dynorb/loop_closing/global_bundle_adjustment.h"
 #include "dynorb/map/map.h"
 #include "dynorb/mapping/mapper_options.h"
 #include "dynorb/tracking/relocalizer.h"
@@ -40,6 +46,12 @@ struct LoopClosingOptions {
   // found in the keyframe (a person who walked past the old place again gives a pose that fits
   // the person's landmarks and none of the room's).
   double min_agreement = 0.1;
+  bool global_ba = true;  // refine the whole map after each loop correction
+  // Levenberg-Marquardt iterations of the global BA after its robust stage (which has the local
+  // BA's first_iterations) excluded the outliers.
+  int global_ba_iterations = 10;
+  // Set by the system, not a YAML key: global BA on its own thread (parallel run mode).
+  bool global_ba_in_background = false;
 
   void Validate() const;  // Throws InputError.
 };
@@ -62,7 +74,14 @@ class LoopCloser {
   LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_options,
              const LocalMapperOptions& mapper_options, const LoopClosingOptions& options, Map* map);
 
+  ~LoopCloser();  // Waits for a global BA in the background to finish.
+  LoopCloser(const LoopCloser&) = delete;
+  LoopCloser& operator=(const LoopCloser&) = delete;
+
   LoopStepStats ProcessOne(KeyframeId keyframe);
+  // Blocks until a global BA in the background (if any) has committed or given up.
+  void WaitForGlobalBa();
+  std::vector<GlobalBaStats> global_ba_stats() const;
 
  private:
   struct Group {
@@ -75,6 +94,9 @@ class LoopCloser {
   void Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyframe, const Frame& verified,
                LoopStepStats* stats);
 
+  void StartGlobalBa();
+  void StopGlobalBa();  // Stops a global BA in the background and waits for it.
+
   RgbdSensor sensor_;
   TrackerOptions tracker_options_;
   LocalMapperOptions mapper_options_;
@@ -85,6 +107,10 @@ class LoopCloser {
   KeyframeId last_loop_keyframe_ = kNoKeyframe;
   std::set<std::pair<KeyframeId, KeyframeId>>
       loop_edges_;  // (lower id, higher id), kept for later loops
+  std::thread global_ba_thread_;
+  std::atomic<bool> stop_global_ba_{false};
+  mutable std::mutex global_ba_mutex_;  // guards global_ba_stats_
+  std::vector<GlobalBaStats> global_ba_stats_;
 };
 
 }  // namespace dynorb

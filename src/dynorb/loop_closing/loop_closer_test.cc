@@ -95,8 +95,9 @@ class LoopCloserTest : public ::testing::Test {
 TEST_F(LoopCloserTest, ClosesTheLoopAndRemovesMostOfTheDrift) {
   Map map;
   map.Write([&](MapData& m) { m.SetVocabulary(TrainVocabulary()); });
-  LoopCloser closer(world_.sensor(), TrackerOptions(), LocalMapperOptions(), LoopClosingOptions(),
-                    &map);
+  LoopClosingOptions options;
+  options.global_ba = false;  // the pose graph's result alone (GlobalBundleAdjustmentAfter...)
+  LoopCloser closer(world_.sensor(), TrackerOptions(), LocalMapperOptions(), options, &map);
   std::map<KeyframeId, int> index_of;
   LoopStepStats closed;
   int detected_before = 0;
@@ -166,6 +167,49 @@ TEST_F(LoopCloserTest, ClosesTheLoopAndRemovesMostOfTheDrift) {
   });
 }
 
+TEST_F(LoopCloserTest, GlobalBundleAdjustmentAfterTheLoopRemovesTheRestInlineOrInTheBackground) {
+  std::map<KeyframeId, Eigen::Vector3d> inline_centres;
+  for (const bool background : {false, true}) {
+    Map map;
+    point_landmark_.clear();
+    map.Write([&](MapData& m) { m.SetVocabulary(TrainVocabulary()); });
+    LoopClosingOptions options;
+    options.global_ba_in_background = background;
+    LoopCloser closer(world_.sensor(), TrackerOptions(), LocalMapperOptions(), options, &map);
+    std::map<KeyframeId, int> index_of;
+    bool closed = false;
+    for (int i = 0; i < 48 && !closed; ++i) {
+      const KeyframeId id = map.Write([&](MapData& m) { return AddKeyframe(&m, i); });
+      index_of[id] = i;
+      closed = closer.ProcessOne(id).closed;
+    }
+    ASSERT_TRUE(closed);
+    closer.WaitForGlobalBa();
+    const std::vector<GlobalBaStats> gba = closer.global_ba_stats();
+    ASSERT_EQ(gba.size(), 1u);
+    EXPECT_TRUE(gba[0].committed);
+    EXPECT_EQ(gba[0].keyframes, static_cast<int>(index_of.size()));
+    map.Read([&](const MapData& m) {
+      EXPECT_EQ(m.correction_epoch(), 2u);  // the loop, then the global BA
+      double worst = 0.0;
+      for (const auto& [id, k] : m.keyframes())
+        worst = std::max(worst, CentreErrorM(m, id, index_of.at(id)));
+      // The pose graph alone leaves ~3 cm (ClosesTheLoopAndRemovesMostOfTheDrift); the landmarks'
+      // evidence removes the rest. The map's first keyframe and the loop keyframe are exact.
+      EXPECT_LT(worst, 0.01) << (background ? "background" : "inline");
+      EXPECT_EQ(m.FirstInconsistency(), "");
+      for (const auto& [id, k] : m.keyframes()) {
+        if (!background) {
+          inline_centres[id] = k.CameraCenterInWorld();
+        } else {
+          EXPECT_EQ(k.CameraCenterInWorld(), inline_centres.at(id)) << "keyframe " << id;
+        }
+      }
+      return 0;
+    });
+  }
+}
+
 TEST_F(LoopCloserTest, DisabledOrWithoutVocabularyNothingHappens) {
   for (const bool disabled : {true, false}) {
     Map map;
@@ -185,6 +229,9 @@ TEST_F(LoopCloserTest, DisabledOrWithoutVocabularyNothingHappens) {
 TEST(LoopClosingOptions, Validate) {
   LoopClosingOptions o;
   o.consistency = 0;
+  EXPECT_THROW(o.Validate(), InputError);
+  o = LoopClosingOptions();
+  o.global_ba_iterations = 0;
   EXPECT_THROW(o.Validate(), InputError);
 }
 

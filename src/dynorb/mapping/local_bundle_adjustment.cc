@@ -10,6 +10,7 @@ namespace dynorb {
 namespace {
 
 struct Snapshot {
+  uint64_t epoch = 0;  // MapData::correction_epoch at the snapshot
   std::vector<KeyframeId> keyframe_ids;
   std::vector<LandmarkId> landmark_ids;
   std::vector<BaKeyframe> keyframes;
@@ -19,6 +20,7 @@ struct Snapshot {
 
 Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe, const LocalMapperOptions& options) {
   Snapshot s;
+  s.epoch = map.correction_epoch();
   std::map<KeyframeId, size_t> kf_index;
   std::map<LandmarkId, size_t> lm_index;
   auto add_keyframe = [&](KeyframeId id, bool fixed) {
@@ -88,6 +90,12 @@ LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdS
   stats.final_cost = r.final_cost;
 
   map->Write([&](MapData& data) {
+    // A global BA in the background moved the whole map meanwhile: this window's result is in
+    // the old frame, and committing it would tear the window from the rest.
+    if (data.correction_epoch() != s.epoch) {
+      stats.discarded = true;
+      return 0;
+    }
     for (size_t o = 0; o < s.observations.size(); ++o) {
       if (r.observation_inlier[o]) continue;
       const KeyframeId kf = s.keyframe_ids[s.observations[o].keyframe_index];

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <ceres/iteration_callback.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
@@ -14,25 +15,43 @@
 namespace dynorb {
 
 void BundleAdjusterOptions::Validate() const {
-  if (first_iterations < 1 || second_iterations < 0 || chi2_mono <= 0.0 || chi2_stereo <= 0.0) {
-    throw InputError("bundle adjuster: iterations must be >= 1 and chi2 gates > 0");
+  if (first_iterations < 1 || second_iterations < 0 || chi2_mono <= 0.0 || chi2_stereo <= 0.0 ||
+      dense_max_keyframes < 0) {
+    throw InputError(
+        "bundle adjuster: iterations must be >= 1, chi2 gates > 0, dense_max_keyframes >= 0");
   }
 }
 
 namespace {
 
-double Solve(ceres::Problem* problem, int iterations, double* initial_cost) {
+class StopCallback : public ceres::IterationCallback {
+ public:
+  explicit StopCallback(const std::atomic<bool>* stop) : stop_(stop) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return stop_->load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::atomic<bool>* stop_;
+};
+
+// Returns false if options.stop ended the solve.
+bool Solve(ceres::Problem* problem, int iterations, bool dense, const std::atomic<bool>* stop,
+           double* initial_cost, double* final_cost) {
   ceres::Solver::Options options;
   // Points are eliminated (Schur); the reduced camera system of a local window (<= a few dozen
   // poses) is small, so a dense factorisation beats a sparse one.
-  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.linear_solver_type = dense ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
   options.max_num_iterations = iterations;
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
+  StopCallback callback(stop);
+  if (stop != nullptr) options.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   ceres::Solve(options, problem, &summary);
   if (initial_cost != nullptr) *initial_cost = summary.initial_cost;
-  return summary.final_cost;
+  *final_cost = summary.final_cost;
+  return !(stop != nullptr && stop->load());
 }
 
 }  // namespace
@@ -67,6 +86,8 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
                                          losses.For(obs.keypoint.IsStereo()), pose, point);
   }
 
+  int free_keyframes = 0;
+  for (const BaKeyframe& kf : keyframes) free_keyframes += kf.fixed ? 0 : 1;
   for (int stage = 0; stage < 2 && !observations.empty(); ++stage) {
     const int iterations = stage == 0 ? options.first_iterations : options.second_iterations;
     if (iterations == 0) break;
@@ -80,7 +101,11 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
     }
     if (problem.NumResidualBlocks() == 0) break;
     double initial = 0.0;
-    result.final_cost = Solve(&problem, iterations, &initial);
+    if (!Solve(&problem, iterations, free_keyframes <= options.dense_max_keyframes, options.stop,
+               &initial, &result.final_cost)) {
+      result.stopped = true;
+      break;
+    }
     if (stage == 0) result.initial_cost = initial;
     result.converged = true;
 

@@ -7,6 +7,7 @@
 // Stateless and thread-safe; deterministic (single-threaded Ceres).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <vector>
 
@@ -21,6 +22,12 @@ struct BundleAdjusterOptions {
   int second_iterations = 10;  // LM iterations after excluding outliers.
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
+  // Reduced camera systems with more free keyframes than this are factorised sparsely (a global
+  // BA over a whole map); a local window's is small and dense.
+  int dense_max_keyframes = 60;
+  // When set, the solve ends after the iteration during which it became true (the result is then
+  // not converged and should be discarded).
+  const std::atomic<bool>* stop = nullptr;
   void Validate() const;
 };
 
@@ -42,6 +49,7 @@ struct BundleAdjusterResult {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   bool converged = false;
+  bool stopped = false;  // BundleAdjusterOptions::stop ended it.
 };
 
 BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,

@@ -25,13 +25,23 @@ void SystemOptions::Validate() const {
   mapper.Validate();
 }
 
+namespace {
+
+LoopClosingOptions LoopOptionsFor(LoopClosingOptions options, RunMode run_mode) {
+  options.global_ba_in_background = run_mode == RunMode::kParallel;
+  return options;
+}
+
+}  // namespace
+
 System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> filter)
     : options_((options.Validate(), options)),
       extractor_(options.orb),
       filter_(std::move(filter)),
       tracker_(options.sensor, options.tracker, &map_),
       mapper_(options.sensor, options.mapper, &map_),
-      loop_closer_(options.sensor, options.tracker, options.mapper, options.loop_closing, &map_),
+      loop_closer_(options.sensor, options.tracker, options.mapper,
+                   LoopOptionsFor(options.loop_closing, options.run_mode), &map_),
       queue_(static_cast<size_t>(options.mapper_queue_capacity)) {
   if (options_.place_recognition) {
     map_.Write([&](MapData& map) {
@@ -105,6 +115,7 @@ void System::Finish() {
   finished_ = true;
   queue_.Close();
   if (mapper_thread_.joinable()) mapper_thread_.join();
+  loop_closer_.WaitForGlobalBa();
 }
 
 MapperStepStats System::MapKeyframe(KeyframeId keyframe) {
@@ -114,6 +125,10 @@ MapperStepStats System::MapKeyframe(KeyframeId keyframe) {
   mapper_stats_.push_back(stats);
   if (loop.detected) loop_stats_.push_back(loop);
   return stats;
+}
+
+std::vector<GlobalBaStats> System::global_ba_stats() const {
+  return loop_closer_.global_ba_stats();
 }
 
 std::vector<LoopStepStats> System::loop_stats() const {

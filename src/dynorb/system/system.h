@@ -139,7 +139,8 @@ class System {
   // Tracking from ready-made features (tests, external front ends).
   const FrameRecord& ProcessFeatures(double timestamp_s,
                                      std::shared_ptr<const FrameFeatures> features);
-  // Waits for the mapper to process every queued keyframe (parallel mode). Idempotent.
+  // Waits for the mapper to process every queued keyframe and for a global BA in the background
+  // (parallel mode). Idempotent.
   void Finish();
 
   Trajectory FrameTrajectory() const;
@@ -148,6 +149,8 @@ class System {
   std::vector<MapperStepStats> mapper_stats() const;
   // Loop closures: one entry per keyframe where a loop was detected (closed or not).
   std::vector<LoopStepStats> loop_stats() const;
+  // Global bundle adjustments after loop corrections (committed or not), in the order they ended.
+  std::vector<GlobalBaStats> global_ba_stats() const;
   size_t NumKeyframes() const;
   size_t NumLandmarks() const;
   const Map& map() const { return map_; }
