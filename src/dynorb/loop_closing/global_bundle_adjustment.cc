@@ -54,6 +54,7 @@ GlobalBundleAdjustment::GlobalBundleAdjustment(const MapData& map) {
       obs.landmark_index = index;
       obs.keypoint = map.keyframe(kf).features->Observation(keypoint);
       observations_.push_back(obs);
+      keypoint_index_.push_back(keypoint);
       observed = true;
     }
     if (!observed) continue;
@@ -114,7 +115,11 @@ bool GlobalBundleAdjustment::Commit(MapData* map) {
     if (result_.observation_inlier[o]) continue;
     const KeyframeId kf = keyframe_ids_[observations_[o].keyframe_index];
     const LandmarkId lm = landmark_ids_[observations_[o].landmark_index];
-    if (map->HasLandmark(lm) && map->landmark(lm).observations.count(kf)) {
+    if (!map->HasLandmark(lm)) continue;
+    const auto& observations = map->landmark(lm).observations;
+    const auto it = observations.find(kf);
+    // Only the observation that was judged (fusion may have relinked the pair meanwhile).
+    if (it != observations.end() && it->second == keypoint_index_[o]) {
       map->EraseObservation(lm, kf);
       ++stats_.removed_observations;
     }

@@ -53,6 +53,7 @@ class GlobalBundleAdjustment {
   std::vector<BaKeyframe> keyframes_;
   std::vector<Eigen::Vector3d> points_;
   std::vector<BaObservation> observations_;
+  std::vector<int> keypoint_index_;  // per observation
   BundleAdjusterResult result_;
   bool solved_ = false;
   GlobalBaStats stats_;

@@ -197,6 +197,30 @@ TEST_F(GlobalBaTest, StoppedOrOvertakenByAnotherCorrectionItCommitsNothing) {
   EXPECT_EQ(poses(), before);
 }
 
+TEST_F(GlobalBaTest, WhatWasErasedMeanwhileIsSkipped) {
+  Map map;
+  map.Write([&](MapData& m) { Build(&m, 8); });
+  GlobalBundleAdjustment gba = map.Read([](const MapData& m) { return GlobalBundleAdjustment(m); });
+  KeyframeId culled = kNoKeyframe;
+  LandmarkId removed = kNoLandmark;
+  map.Write([&](MapData& m) {
+    culled = std::next(m.keyframes().begin(), 3)->first;
+    m.EraseKeyframe(culled);
+    removed = m.landmarks().rbegin()->first;
+    m.EraseLandmark(removed);
+  });
+  ASSERT_TRUE(gba.Solve(world_.sensor(), GlobalOptions()));
+  ASSERT_TRUE(map.Write([&](MapData& m) { return gba.Commit(&m); }));
+  map.Read([&](const MapData& m) {
+    EXPECT_FALSE(m.HasKeyframe(culled));
+    EXPECT_FALSE(m.HasLandmark(removed));
+    EXPECT_EQ(m.NumKeyframes(), 7u);
+    EXPECT_LT(WorstKeyframeErrorM(m), 0.008);
+    EXPECT_EQ(m.FirstInconsistency(), "");
+    return 0;
+  });
+}
+
 TEST_F(GlobalBaTest, WhatTheMapperAddedMeanwhileFollowsItsParentAndReferenceKeyframe) {
   Map map;
   map.Write([&](MapData& m) { Build(&m, 8); });

@@ -148,12 +148,15 @@ LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
   Stopwatch watch;
   Frame verified;
   KeyframeId loop_keyframe = kNoKeyframe;
-  map_->Read([&](const MapData& map) {
-    const std::vector<KeyframeId> candidates = Detect(map, keyframe);
-    if (candidates.empty()) return;
-    stats.detected = true;
+  std::vector<KeyframeId> candidates;
+  uint64_t epoch = 0;  // of the map the verified pose was found in
+  const auto verify = [&](const MapData& map) {
+    epoch = map.correction_epoch();
+    loop_keyframe = kNoKeyframe;
+    if (!map.HasKeyframe(keyframe)) return;
     const Keyframe& k = map.keyframe(keyframe);
     for (KeyframeId candidate : candidates) {
+      if (!map.HasKeyframe(candidate)) continue;
       Frame frame(k.frame_id, k.timestamp_s, k.features);
       frame.cam_from_world = k.cam_from_world;
       if (!relocalizer_.LocalizeAgainst(map, candidate, &frame)) continue;
@@ -164,9 +167,21 @@ LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
       loop_keyframe = candidate;
       return;
     }
+  };
+  map_->Read([&](const MapData& map) {
+    candidates = Detect(map, keyframe);
+    if (candidates.empty()) return;
+    stats.detected = true;
+    verify(map);
   });
   if (loop_keyframe != kNoKeyframe) {
     StopGlobalBa();  // its result would be for the map before this loop
+    // One that committed before it could be stopped moved the map under the verified pose: verify
+    // again (no other thread corrects the map now).
+    if (map_->Read([](const MapData& map) { return map.correction_epoch(); }) != epoch)
+      map_->Read(verify);
+  }
+  if (loop_keyframe != kNoKeyframe) {
     map_->Write([&](MapData& map) { Correct(&map, keyframe, loop_keyframe, verified, &stats); });
     if (stats.closed && options_.global_ba) StartGlobalBa();
   }

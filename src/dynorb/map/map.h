@@ -29,16 +29,28 @@ class MapData {
   const Vocabulary* vocabulary() const { return vocabulary_.get(); }
   const std::shared_ptr<const Vocabulary>& shared_vocabulary() const { return vocabulary_; }
   const KeyframeDatabase& keyframe_database() const { return database_; }
-  // Counts corrections that moved keyframes and landmarks at once (loop closures): a tracker
-  // holding poses from before re-anchors them to their reference keyframes when it changes.
+  // Counts corrections that moved keyframes and landmarks at once (loop closures, global BA): a
+  // tracker holding poses from before re-anchors them to their reference keyframes when it changes.
   uint64_t correction_epoch() const { return correction_epoch_; }
-  // `poses_before`: every keyframe's cam_from_world before the correction (kept until the next).
+  // `poses_before`: every keyframe's cam_from_world before the correction. The last
+  // kKeptCorrections corrections' are kept (a frame tracked while two landed needs the first's).
+  static constexpr size_t kKeptCorrections = 8;
   void NoteCorrection(std::map<KeyframeId, Rigid3d> poses_before) {
     ++correction_epoch_;
-    poses_before_correction_ = std::move(poses_before);
+    poses_before_correction_[correction_epoch_] = std::move(poses_before);
+    while (poses_before_correction_.size() > kKeptCorrections)
+      poses_before_correction_.erase(poses_before_correction_.begin());
   }
+  // The poses before correction number `epoch` (1 = the first); nullptr if not kept.
+  const std::map<KeyframeId, Rigid3d>* PosesBeforeCorrection(uint64_t epoch) const {
+    const auto it = poses_before_correction_.find(epoch);
+    return it != poses_before_correction_.end() ? &it->second : nullptr;
+  }
+  // The latest correction's (empty before the first).
   const std::map<KeyframeId, Rigid3d>& poses_before_correction() const {
-    return poses_before_correction_;
+    static const std::map<KeyframeId, Rigid3d> kNone;
+    const auto* latest = PosesBeforeCorrection(correction_epoch_);
+    return latest != nullptr ? *latest : kNone;
   }
 
   // Assigns the id; landmarks vector sized to features. With a vocabulary, a keyframe that comes
@@ -101,7 +113,7 @@ class MapData {
   std::shared_ptr<const Vocabulary> vocabulary_;
   KeyframeDatabase database_;
   uint64_t correction_epoch_ = 0;
-  std::map<KeyframeId, Rigid3d> poses_before_correction_;
+  std::map<uint64_t, std::map<KeyframeId, Rigid3d>> poses_before_correction_;  // by epoch
 };
 
 class Map {

@@ -234,6 +234,27 @@ TEST_F(MapDataTest, FirstInconsistencyNamesABrokenLink) {
       << map_.FirstInconsistency();
 }
 
+TEST(MapData, KeepsThePosesBeforeTheLastCorrections) {
+  MapData map;
+  EXPECT_TRUE(map.poses_before_correction().empty());
+  EXPECT_EQ(map.PosesBeforeCorrection(1), nullptr);
+  const size_t n = MapData::kKeptCorrections + 2;
+  for (size_t e = 1; e <= n; ++e) {
+    std::map<KeyframeId, Rigid3d> before;
+    before[0] =
+        Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(static_cast<double>(e), 0, 0));
+    map.NoteCorrection(before);
+  }
+  EXPECT_EQ(map.correction_epoch(), n);
+  EXPECT_EQ(map.PosesBeforeCorrection(1), nullptr);
+  EXPECT_EQ(map.PosesBeforeCorrection(2), nullptr);
+  for (size_t e = 3; e <= n; ++e) {
+    ASSERT_NE(map.PosesBeforeCorrection(e), nullptr);
+    EXPECT_EQ(map.PosesBeforeCorrection(e)->at(0).translation.x(), static_cast<double>(e));
+  }
+  EXPECT_EQ(map.poses_before_correction().at(0).translation.x(), static_cast<double>(n));
+}
+
 TEST(Map, ReadWriteUnderOneLock) {
   Map map;
   const KeyframeId id = map.Write([](MapData& d) {

@@ -35,9 +35,10 @@ class StopCallback : public ceres::IterationCallback {
   const std::atomic<bool>* stop_;
 };
 
-// Returns false if options.stop ended the solve.
+// Returns false if options.stop ended the solve; `usable`: Ceres says the parameters hold a
+// solution (not a failed start, e.g. a linear solver the Ceres build lacks).
 bool Solve(ceres::Problem* problem, int iterations, bool dense, const std::atomic<bool>* stop,
-           double* initial_cost, double* final_cost) {
+           double* initial_cost, double* final_cost, bool* usable) {
   ceres::Solver::Options options;
   // Points are eliminated (Schur); the reduced camera system of a local window (<= a few dozen
   // poses) is small, so a dense factorisation beats a sparse one.
@@ -51,6 +52,7 @@ bool Solve(ceres::Problem* problem, int iterations, bool dense, const std::atomi
   ceres::Solve(options, problem, &summary);
   if (initial_cost != nullptr) *initial_cost = summary.initial_cost;
   *final_cost = summary.final_cost;
+  *usable = summary.IsSolutionUsable();
   return !(stop != nullptr && stop->load());
 }
 
@@ -101,13 +103,15 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
     }
     if (problem.NumResidualBlocks() == 0) break;
     double initial = 0.0;
-    if (!Solve(&problem, iterations, free_keyframes <= options.dense_max_keyframes, options.stop,
-               &initial, &result.final_cost)) {
+    bool usable = false;
+    const bool finished = Solve(&problem, iterations, free_keyframes <= options.dense_max_keyframes,
+                                options.stop, &initial, &result.final_cost, &usable);
+    if (stage == 0) result.initial_cost = initial;
+    if (!finished) {
       result.stopped = true;
       break;
     }
-    if (stage == 0) result.initial_cost = initial;
-    result.converged = true;
+    result.converged = usable && (stage == 0 || result.converged);
 
     for (size_t i = 0; i < observations.size(); ++i) {
       const BaObservation& obs = observations[i];

@@ -48,8 +48,8 @@ struct BundleAdjusterResult {
   std::vector<bool> observation_inlier;       // Per observation, after the final solve.
   double initial_cost = 0.0;
   double final_cost = 0.0;
-  bool converged = false;
-  bool stopped = false;  // BundleAdjusterOptions::stop ended it.
+  bool converged = false;  // every stage ran and left a usable solution (Ceres' judgement)
+  bool stopped = false;    // BundleAdjusterOptions::stop ended it.
 };
 
 BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "dynorb/core/angles.h"
 #include "dynorb/optimization/test_scene.h"
 
@@ -96,6 +98,26 @@ TEST(BundleAdjuster, ReducesPerturbationOfPosesAndPoints) {
   for (bool inlier : r.observation_inlier) flagged += inlier ? 0 : 1;
   EXPECT_GE(flagged, outliers);
   EXPECT_LT(flagged, outliers + 0.1 * observations.size());
+
+  // The sparse factorisation (a global BA's, above dense_max_keyframes) finds the same solution.
+  BundleAdjusterOptions sparse;
+  sparse.dense_max_keyframes = 0;
+  const BundleAdjusterResult rs =
+      RunBundleAdjustment(kCamera, kBf, keyframes, noisy_points, observations, sparse);
+  ASSERT_TRUE(rs.converged);
+  EXPECT_NEAR(rs.final_cost, r.final_cost, 1e-6 * r.final_cost);
+  for (size_t k = 0; k < truth.size(); ++k)
+    EXPECT_LT((rs.cam_from_world[k].translation - r.cam_from_world[k].translation).norm(), 1e-6);
+
+  // A stop flag that is set ends the solve at its first iteration callback, before any step.
+  std::atomic<bool> stop{true};
+  BundleAdjusterOptions stopped;
+  stopped.stop = &stop;
+  const BundleAdjusterResult rx =
+      RunBundleAdjustment(kCamera, kBf, keyframes, noisy_points, observations, stopped);
+  EXPECT_TRUE(rx.stopped);
+  EXPECT_FALSE(rx.converged);
+  EXPECT_EQ(rx.final_cost, rx.initial_cost);
 }
 
 // A nearly static camera (5 keyframes within 2 cm, as a hand-held camera held still): the landmark

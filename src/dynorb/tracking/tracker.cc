@@ -84,6 +84,9 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     }
   } else {
     centre_prior_.reset();
+    // Relocalisation finds a pose in the map as it is now: corrections that landed while the
+    // tracker was lost must not move that pose again (AdaptToCorrectionDuringFrame).
+    ReanchorAfterCorrection();
     ok = Relocalize(&frame);
     if (ok) {
       result.relocalized = true;
@@ -164,10 +167,12 @@ void Tracker::ReanchorAfterCorrection() {
 
 void Tracker::AdaptToCorrectionDuringFrame(const MapData& map, Frame* frame) {
   if (map.correction_epoch() == seen_correction_epoch_) return;
-  const auto& before = map.poses_before_correction();
-  const auto it = before.find(frame->reference_keyframe);
-  if (map.correction_epoch() == seen_correction_epoch_ + 1 && it != before.end() &&
-      map.HasKeyframe(frame->reference_keyframe)) {
+  // The frame was tracked in the map as it was before correction seen + 1 (one or more may have
+  // landed since: a loop and its global BA).
+  const auto* before = map.PosesBeforeCorrection(seen_correction_epoch_ + 1);
+  if (before == nullptr) return;
+  const auto it = before->find(frame->reference_keyframe);
+  if (it != before->end() && map.HasKeyframe(frame->reference_keyframe)) {
     const Rigid3d old_from_new =
         it->second.Inverse() * map.keyframe(frame->reference_keyframe).cam_from_world;
     frame->cam_from_world = frame->cam_from_world * old_from_new;
