@@ -23,7 +23,8 @@ struct BundleAdjusterOptions {
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
   // Reduced camera systems with more free keyframes than this are factorised sparsely (a global
-  // BA over a whole map); a local window's is small and dense.
+  // BA over a whole map); a local window's is small and dense. BM_GlobalBundleAdjustment: the same
+  // time at 30 keyframes, sparse 7-10 % faster at 60-120.
   int dense_max_keyframes = 60;
   // When set, the solve ends after the iteration during which it became true (the result is then
   // not converged and should be discarded).
