@@ -85,9 +85,10 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
       .Add("min_agreement", &l->min_agreement,
            "fraction of the loop side's landmarks in view the verified pose must find (a mover "
            "seen again closes no loop)")
-      .Add("global_ba", &l->global_ba,
-           "bundle-adjust the whole map after each loop correction (on its own thread in "
-           "parallel mode)")
+      .Add("global_ba", &l->global_ba, "bundle-adjust the whole map after each loop correction")
+      .Add("global_ba_thread", &l->global_ba_thread,
+           "parallel run mode: the global BA on its own thread (local mapping goes on meanwhile) "
+           "instead of on the mapper's")
       .Add("global_ba_iterations", &l->global_ba_iterations,
            "Levenberg-Marquardt iterations of the global bundle adjustment after its robust "
            "stage removed the outliers")

@@ -25,13 +25,14 @@ grep -q "vocabulary: .*v.dynvoc" "$DIR/run/effective_config.yaml" || fail "effec
 
 # The loop_closing: section: switched off, and its values checked.
 cp "$SEQ/camera.yaml" "$DIR/no_loops.yaml"
-printf 'loop_closing:\n  enabled: false\n  min_agreement: 0.2\n  global_ba: false\n  global_ba_iterations: 7\n' >>"$DIR/no_loops.yaml"
+printf 'loop_closing:\n  enabled: false\n  min_agreement: 0.2\n  global_ba: false\n  global_ba_iterations: 7\n  global_ba_thread: true\n' >>"$DIR/no_loops.yaml"
 "$DYNORB" run --dataset "$SEQ" --config "$DIR/no_loops.yaml" --out "$DIR/no_loops" --quiet >/dev/null 2>&1 ||
   fail "run with loop_closing: {enabled: false}: exit code $?"
 grep -q "min_agreement: 0.2" "$DIR/no_loops/effective_config.yaml" || fail "effective_config.yaml lacks loop_closing.min_agreement"
 grep -q '"loops_closed": 0' "$DIR/no_loops/stats.json" || fail "stats.json lacks loops_closed"
 grep -q "global_ba: false" "$DIR/no_loops/effective_config.yaml" || fail "effective_config.yaml lacks loop_closing.global_ba"
 grep -q "global_ba_iterations: 7" "$DIR/no_loops/effective_config.yaml" || fail "effective_config.yaml lacks loop_closing.global_ba_iterations"
+grep -q "global_ba_thread: true" "$DIR/no_loops/effective_config.yaml" || fail "effective_config.yaml lacks loop_closing.global_ba_thread"
 grep -q '"global_bundle_adjustments": \[\]' "$DIR/no_loops/stats.json" || fail "stats.json lacks global_bundle_adjustments"
 
 # Bad input: one message naming the problem, exit code 2, nothing written.

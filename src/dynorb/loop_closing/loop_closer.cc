@@ -70,7 +70,7 @@ void LoopCloser::StartGlobalBa() {
     std::lock_guard<std::mutex> lock(global_ba_mutex_);
     global_ba_stats_.push_back(stats);
   };
-  if (options_.global_ba_in_background) {
+  if (options_.global_ba_thread) {
     global_ba_thread_ = std::thread(run);
   } else {
     run();

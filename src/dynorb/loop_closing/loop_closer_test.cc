@@ -174,7 +174,7 @@ TEST_F(LoopCloserTest, GlobalBundleAdjustmentAfterTheLoopRemovesTheRestInlineOrI
     point_landmark_.clear();
     map.Write([&](MapData& m) { m.SetVocabulary(TrainVocabulary()); });
     LoopClosingOptions options;
-    options.global_ba_in_background = background;
+    options.global_ba_thread = background;
     LoopCloser closer(world_.sensor(), TrackerOptions(), LocalMapperOptions(), options, &map);
     std::map<KeyframeId, int> index_of;
     bool closed = false;

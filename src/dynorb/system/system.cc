@@ -28,7 +28,7 @@ void SystemOptions::Validate() const {
 namespace {
 
 LoopClosingOptions LoopOptionsFor(LoopClosingOptions options, RunMode run_mode) {
-  options.global_ba_in_background = run_mode == RunMode::kParallel;
+  options.global_ba_thread = options.global_ba_thread && run_mode == RunMode::kParallel;
   return options;
 }
 

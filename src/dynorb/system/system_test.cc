@@ -71,9 +71,16 @@ TEST(System, ClosesTheLoopAfterAFullTurnAndKeepsTracking) {
         Eigen::Quaterniond(Eigen::AngleAxisd(2.0 * k * M_PI / 180.0, Eigen::Vector3d::UnitY())),
         Eigen::Vector3d(0.0, 0.0, 0.5));
   };
-  for (const RunMode mode : {RunMode::kSequential, RunMode::kParallel}) {
-    SCOPED_TRACE(mode == RunMode::kSequential ? "sequential" : "parallel");
-    System system(Options(world, mode));
+  for (const auto& [mode, thread] :
+       std::vector<std::pair<RunMode, bool>>{{RunMode::kSequential, false},
+                                             {RunMode::kParallel, false},
+                                             {RunMode::kParallel, true}}) {
+    SCOPED_TRACE(mode == RunMode::kSequential ? "sequential"
+                 : thread                     ? "parallel, global BA thread"
+                                              : "parallel");
+    SystemOptions options = Options(world, mode);
+    options.loop_closing.global_ba_thread = thread;
+    System system(options);
     const int frames = 280;
     for (int k = 0; k < frames; ++k)
       system.ProcessFeatures(k / 30.0, world.Observe(turned(k), 300 + k));
@@ -99,7 +106,7 @@ TEST(System, ClosesTheLoopAfterAFullTurnAndKeepsTracking) {
     // Parallel mode makes its keyframes at other frames and drifts more before the loop (up to
     // 3 cm measured); the pose graph spreads the correction over the frames in between.
     EXPECT_LT(worst, mode == RunMode::kSequential ? 0.02 : 0.035) << "worst " << worst;
-    // A global BA followed the loop (in parallel mode on its own thread; Finish waited for it).
+    // A global BA followed the loop (on its own thread: Finish waited for it).
     const std::vector<GlobalBaStats> gba = system.global_ba_stats();
     ASSERT_EQ(gba.size(), static_cast<size_t>(closed));
     for (const GlobalBaStats& g : gba) EXPECT_TRUE(g.committed);
