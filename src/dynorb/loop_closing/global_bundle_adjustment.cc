@@ -33,43 +33,40 @@ Rigid3d PropagatedPose(const MapData& map, KeyframeId id,
 }  // namespace
 
 GlobalBundleAdjustment::GlobalBundleAdjustment(const MapData& map) {
-  epoch_ = map.correction_epoch();
+  BaSnapshot& s = snapshot_;
+  s.epoch = map.correction_epoch();
   std::map<KeyframeId, size_t> kf_index;
   for (const auto& [id, k] : map.keyframes()) {
-    kf_index[id] = keyframes_.size();
-    keyframe_ids_.push_back(id);
+    kf_index[id] = s.keyframes.size();
+    s.keyframe_ids.push_back(id);
     BaKeyframe kf;
     kf.cam_from_world = k.cam_from_world;
-    kf.fixed = keyframes_.empty();  // The first keyframe anchors the map.
-    keyframes_.push_back(kf);
+    kf.fixed = s.keyframes.empty();  // The first keyframe anchors the map.
+    s.keyframes.push_back(kf);
   }
   for (const auto& [lm, l] : map.landmarks()) {
-    const size_t index = points_.size();
+    const size_t index = s.points.size();
     bool observed = false;
     for (const auto& [kf, keypoint] : l.observations) {
       const auto it = kf_index.find(kf);
       if (it == kf_index.end()) continue;
-      BaObservation obs;
-      obs.keyframe_index = it->second;
-      obs.landmark_index = index;
-      obs.keypoint = map.keyframe(kf).features->Observation(keypoint);
-      observations_.push_back(obs);
-      keypoint_index_.push_back(keypoint);
+      s.AddObservation(map, it->second, index, keypoint);
       observed = true;
     }
     if (!observed) continue;
-    landmark_ids_.push_back(lm);
-    points_.push_back(l.point_in_world);
+    s.landmark_ids.push_back(lm);
+    s.points.push_back(l.point_in_world);
   }
-  stats_.keyframes = static_cast<int>(keyframes_.size());
-  stats_.landmarks = static_cast<int>(points_.size());
-  stats_.observations = static_cast<int>(observations_.size());
+  stats_.keyframes = static_cast<int>(s.keyframes.size());
+  stats_.landmarks = static_cast<int>(s.points.size());
+  stats_.observations = static_cast<int>(s.observations.size());
 }
 
 bool GlobalBundleAdjustment::Solve(const RgbdSensor& sensor, const BundleAdjusterOptions& options) {
-  if (observations_.empty()) return false;
+  const BaSnapshot& s = snapshot_;
+  if (s.observations.empty()) return false;
   result_ =
-      RunBundleAdjustment(sensor.camera, sensor.bf, keyframes_, points_, observations_, options);
+      RunBundleAdjustment(sensor.camera, sensor.bf, s.keyframes, s.points, s.observations, options);
   stats_.initial_cost = result_.initial_cost;
   stats_.final_cost = result_.final_cost;
   stats_.outlier_observations = 0;
@@ -79,12 +76,14 @@ bool GlobalBundleAdjustment::Solve(const RgbdSensor& sensor, const BundleAdjuste
 }
 
 bool GlobalBundleAdjustment::Commit(MapData* map) {
-  if (!solved_ || map->correction_epoch() != epoch_) return false;
+  const BaSnapshot& s = snapshot_;
+  if (!solved_ || map->correction_epoch() != s.epoch) return false;
   std::map<KeyframeId, Rigid3d> before;
   for (const auto& [id, k] : map->keyframes()) before[id] = k.cam_from_world;
   std::map<KeyframeId, Rigid3d> corrected;
-  for (size_t k = 0; k < keyframe_ids_.size(); ++k) {
-    if (map->HasKeyframe(keyframe_ids_[k])) corrected[keyframe_ids_[k]] = result_.cam_from_world[k];
+  for (size_t k = 0; k < s.keyframe_ids.size(); ++k) {
+    if (map->HasKeyframe(s.keyframe_ids[k]))
+      corrected[s.keyframe_ids[k]] = result_.cam_from_world[k];
   }
   for (const auto& [id, pose] : before) {
     if (corrected.count(id)) continue;
@@ -92,7 +91,7 @@ bool GlobalBundleAdjustment::Commit(MapData* map) {
     ++stats_.propagated_keyframes;
   }
   std::map<LandmarkId, size_t> in_snapshot;
-  for (size_t l = 0; l < landmark_ids_.size(); ++l) in_snapshot[landmark_ids_[l]] = l;
+  for (size_t l = 0; l < s.landmark_ids.size(); ++l) in_snapshot[s.landmark_ids[l]] = l;
   std::vector<LandmarkId> ids;
   for (const auto& [lm, l] : map->landmarks()) ids.push_back(lm);
   for (LandmarkId lm : ids) {
@@ -111,19 +110,7 @@ bool GlobalBundleAdjustment::Commit(MapData* map) {
     ++stats_.propagated_landmarks;
   }
   // As the local BA does: observations beyond the gate (a mover's, a wrong match) leave the map.
-  for (size_t o = 0; o < observations_.size(); ++o) {
-    if (result_.observation_inlier[o]) continue;
-    const KeyframeId kf = keyframe_ids_[observations_[o].keyframe_index];
-    const LandmarkId lm = landmark_ids_[observations_[o].landmark_index];
-    if (!map->HasLandmark(lm)) continue;
-    const auto& observations = map->landmark(lm).observations;
-    const auto it = observations.find(kf);
-    // Only the observation that was judged (fusion may have relinked the pair meanwhile).
-    if (it != observations.end() && it->second == keypoint_index_[o]) {
-      map->EraseObservation(lm, kf);
-      ++stats_.removed_observations;
-    }
-  }
+  stats_.removed_observations = EraseOutlierObservations(map, s, result_.observation_inlier);
   ids.clear();
   for (const auto& [lm, l] : map->landmarks()) ids.push_back(lm);
   for (const auto& [id, pose] : corrected) map->keyframe(id).cam_from_world = pose;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "dynorb/map/map.h"
+#include "dynorb/mapping/ba_snapshot.h"
 #include "dynorb/mapping/mapper_options.h"
 #include "dynorb/optimization/bundle_adjuster.h"
 
@@ -47,13 +48,7 @@ class GlobalBundleAdjustment {
   const GlobalBaStats& stats() const { return stats_; }
 
  private:
-  uint64_t epoch_ = 0;
-  std::vector<KeyframeId> keyframe_ids_;
-  std::vector<LandmarkId> landmark_ids_;
-  std::vector<BaKeyframe> keyframes_;
-  std::vector<Eigen::Vector3d> points_;
-  std::vector<BaObservation> observations_;
-  std::vector<int> keypoint_index_;  // per observation
+  BaSnapshot snapshot_;
   BundleAdjusterResult result_;
   bool solved_ = false;
   GlobalBaStats stats_;

@@ -4,22 +4,15 @@
 #include <map>
 #include <set>
 
+#include "dynorb/mapping/ba_snapshot.h"
 #include "dynorb/optimization/bundle_adjuster.h"
 
 namespace dynorb {
 namespace {
 
-struct Snapshot {
-  uint64_t epoch = 0;  // MapData::correction_epoch at the snapshot
-  std::vector<KeyframeId> keyframe_ids;
-  std::vector<LandmarkId> landmark_ids;
-  std::vector<BaKeyframe> keyframes;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<BaObservation> observations;
-};
-
-Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe, const LocalMapperOptions& options) {
-  Snapshot s;
+BaSnapshot TakeSnapshot(const MapData& map, KeyframeId keyframe,
+                        const LocalMapperOptions& options) {
+  BaSnapshot s;
   s.epoch = map.correction_epoch();
   std::map<KeyframeId, size_t> kf_index;
   std::map<LandmarkId, size_t> lm_index;
@@ -61,11 +54,7 @@ Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe, const LocalMapper
     for (const auto& [kf, index] : map.landmark(s.landmark_ids[l]).observations) {
       auto it = kf_index.find(kf);
       if (it == kf_index.end()) continue;  // An observer beyond the fixed set: left out.
-      BaObservation obs;
-      obs.keyframe_index = it->second;
-      obs.landmark_index = l;
-      obs.keypoint = map.keyframe(kf).features->Observation(index);
-      s.observations.push_back(obs);
+      s.AddObservation(map, it->second, l, index);
     }
   }
   return s;
@@ -76,8 +65,8 @@ Snapshot TakeSnapshot(const MapData& map, KeyframeId keyframe, const LocalMapper
 LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdSensor& sensor,
                                       const LocalMapperOptions& options) {
   LocalBaStats stats;
-  const Snapshot s = map->Read([&](const MapData& data) {
-    return data.HasKeyframe(keyframe) ? TakeSnapshot(data, keyframe, options) : Snapshot{};
+  const BaSnapshot s = map->Read([&](const MapData& data) {
+    return data.HasKeyframe(keyframe) ? TakeSnapshot(data, keyframe, options) : BaSnapshot{};
   });
   if (s.observations.empty()) return stats;
   for (const BaKeyframe& kf : s.keyframes) (kf.fixed ? stats.fixed_keyframes : stats.free_keyframes)++;
@@ -96,15 +85,7 @@ LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdS
       stats.discarded = true;
       return 0;
     }
-    for (size_t o = 0; o < s.observations.size(); ++o) {
-      if (r.observation_inlier[o]) continue;
-      const KeyframeId kf = s.keyframe_ids[s.observations[o].keyframe_index];
-      const LandmarkId lm = s.landmark_ids[s.observations[o].landmark_index];
-      if (data.HasLandmark(lm) && data.landmark(lm).observations.count(kf)) {
-        data.EraseObservation(lm, kf);
-        ++stats.removed_observations;
-      }
-    }
+    stats.removed_observations = EraseOutlierObservations(&data, s, r.observation_inlier);
     for (size_t k = 0; k < s.keyframes.size(); ++k) {
       if (!s.keyframes[k].fixed && data.HasKeyframe(s.keyframe_ids[k])) {
         data.keyframe(s.keyframe_ids[k]).cam_from_world = r.cam_from_world[k];
