@@ -95,19 +95,12 @@ bool GlobalBundleAdjustment::Commit(MapData* map) {
   std::vector<LandmarkId> ids;
   for (const auto& [lm, l] : map->landmarks()) ids.push_back(lm);
   for (LandmarkId lm : ids) {
-    Landmark& l = map->landmark(lm);
     const auto it = in_snapshot.find(lm);
     if (it != in_snapshot.end()) {
-      l.point_in_world = result_.points_in_world[it->second];
-      continue;
+      map->landmark(lm).point_in_world = result_.points_in_world[it->second];
+    } else if (map->MoveLandmarkWithKeyframe(lm, before, corrected)) {
+      ++stats_.propagated_landmarks;
     }
-    KeyframeId ref = l.reference_keyframe;
-    if (!map->HasKeyframe(ref)) {
-      if (l.observations.empty()) continue;
-      ref = l.observations.begin()->first;
-    }
-    l.point_in_world = corrected.at(ref).Inverse() * (before.at(ref) * l.point_in_world);
-    ++stats_.propagated_landmarks;
   }
   // As the local BA does: observations beyond the gate (a mover's, a wrong match) leave the map.
   stats_.removed_observations = EraseOutlierObservations(map, s, result_.observation_inlier);

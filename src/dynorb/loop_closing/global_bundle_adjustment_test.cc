@@ -117,8 +117,9 @@ TEST_F(GlobalBaTest, RefinesEveryKeyframeAndLandmarkWithTheFirstKeyframeFixed) {
     EXPECT_EQ(m.correction_epoch(), 1u);
     EXPECT_EQ(m.poses_before_correction().size(), disturbed.size());
     for (const auto& [id, pose] : disturbed) {
-      if (m.poses_before_correction().count(id))
+      if (m.poses_before_correction().count(id)) {
         EXPECT_EQ(m.poses_before_correction().at(id).translation, pose.translation);
+      }
     }
     EXPECT_EQ(m.FirstInconsistency(), "");
     return 0;

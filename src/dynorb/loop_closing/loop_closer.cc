@@ -312,15 +312,10 @@ void LoopCloser::Correct(MapData* map, KeyframeId keyframe, KeyframeId loop_keyf
   std::vector<LandmarkId> landmark_ids;
   for (const auto& [lm, l] : map->landmarks()) landmark_ids.push_back(lm);
   for (LandmarkId lm : landmark_ids) {
-    Landmark& l = map->landmark(lm);
     const auto moved = moved_by.find(lm);
-    KeyframeId ref = moved != moved_by.end() ? moved->second : l.reference_keyframe;
-    if (!map->HasKeyframe(ref)) {
-      if (l.observations.empty()) continue;
-      ref = l.observations.begin()->first;
-    }
-    l.point_in_world = poses.at(ref).Inverse() * (before.at(ref) * l.point_in_world);
-    map->UpdateLandmarkGeometry(lm);
+    if (map->MoveLandmarkWithKeyframe(lm, before, poses,
+                                      moved != moved_by.end() ? moved->second : kNoKeyframe))
+      map->UpdateLandmarkGeometry(lm);
   }
   map->NoteCorrection(std::move(old_pose));
   last_loop_keyframe_ = keyframe;

@@ -65,6 +65,19 @@ void MapData::EraseObservation(LandmarkId lm, KeyframeId kf) {
   if (l.observations.empty() || single_without_depth) EraseLandmark(lm);
 }
 
+bool MapData::MoveLandmarkWithKeyframe(LandmarkId lm, const std::map<KeyframeId, Rigid3d>& before,
+                                       const std::map<KeyframeId, Rigid3d>& after,
+                                       KeyframeId follow) {
+  Landmark& l = landmarks_.at(lm);
+  KeyframeId ref = follow != kNoKeyframe ? follow : l.reference_keyframe;
+  if (!HasKeyframe(ref)) {
+    if (l.observations.empty()) return false;
+    ref = l.observations.begin()->first;
+  }
+  l.point_in_world = after.at(ref).Inverse() * (before.at(ref) * l.point_in_world);
+  return true;
+}
+
 void MapData::EraseLandmark(LandmarkId lm) {
   auto it = landmarks_.find(lm);
   if (it == landmarks_.end()) return;

@@ -82,6 +82,13 @@ class MapData {
   // Recomputes normal, distance range and representative descriptor from the observations.
   void UpdateLandmarkGeometry(LandmarkId lm);
   void UpdateLandmarkDescriptor(LandmarkId lm);
+  // After a correction moved keyframes (`before` -> `after`, each holding every keyframe of the
+  // map): landmark `lm` keeps its position in the camera frame of the keyframe it follows —
+  // `follow` (kNoKeyframe: its reference keyframe), or its first observer when that keyframe is
+  // gone. False (the landmark unmoved) if it has no observer left.
+  bool MoveLandmarkWithKeyframe(LandmarkId lm, const std::map<KeyframeId, Rigid3d>& before,
+                                const std::map<KeyframeId, Rigid3d>& after,
+                                KeyframeId follow = kNoKeyframe);
 
   // Recomputes the covisibility edges of `kf` from shared landmarks (weight >= min_weight, or the
   // single best if none reaches it), updates the other side, and attaches `kf` to the spanning

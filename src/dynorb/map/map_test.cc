@@ -228,6 +228,35 @@ TEST_F(MapDataTest, AnEdgeDroppedByUpdateConnectionsLeavesBothSidesOrders) {
   EXPECT_EQ(map_.FirstInconsistency(), "");
 }
 
+TEST_F(MapDataTest, ALandmarkMovesWithTheKeyframeItFollows) {
+  std::map<KeyframeId, Rigid3d> before, after;
+  for (const auto& [id, k] : map_.keyframes()) before[id] = after[id] = k.cam_from_world;
+  // Keyframe 1 turns 90 degrees about y and moves; keyframe 0 moves 1 m along x.
+  after[ids_[1]] =
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())),
+              Eigen::Vector3d(0.3, -0.2, 0.1));
+  after[ids_[0]].translation += Eigen::Vector3d(-1.0, 0, 0);  // camera centre +1 m in x
+  const LandmarkId lm = map_.keyframe(ids_[1]).landmarks[3];  // seen by 0 and 1, reference 0
+  ASSERT_NE(lm, kNoLandmark);
+  const Eigen::Vector3d world = map_.landmark(lm).point_in_world;
+  ASSERT_EQ(map_.landmark(lm).reference_keyframe, ids_[0]);
+  // By default it follows its reference keyframe: same point in keyframe 0's camera.
+  ASSERT_TRUE(map_.MoveLandmarkWithKeyframe(lm, before, after));
+  EXPECT_LT((map_.landmark(lm).point_in_world - (world + Eigen::Vector3d(1.0, 0, 0))).norm(),
+            1e-12);
+  // Told to follow keyframe 1: the same point in keyframe 1's camera before and after.
+  const Eigen::Vector3d moved = map_.landmark(lm).point_in_world;
+  ASSERT_TRUE(map_.MoveLandmarkWithKeyframe(lm, before, after, ids_[1]));
+  EXPECT_LT(
+      (after.at(ids_[1]) * map_.landmark(lm).point_in_world - before.at(ids_[1]) * moved).norm(),
+      1e-12);
+  // A keyframe that is gone: its first observer (keyframe 0) instead.
+  map_.landmark(lm).point_in_world = world;
+  ASSERT_TRUE(map_.MoveLandmarkWithKeyframe(lm, before, after, ids_[2] + 100));
+  EXPECT_LT((map_.landmark(lm).point_in_world - (world + Eigen::Vector3d(1.0, 0, 0))).norm(),
+            1e-12);
+}
+
 TEST_F(MapDataTest, FirstInconsistencyNamesABrokenLink) {
   map_.keyframe(ids_[1]).ordered_covisibles.push_back(ids_[1] + 7);
   EXPECT_NE(map_.FirstInconsistency().find("keyframe 1"), std::string::npos)
