@@ -19,20 +19,24 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_epsilon_px", &o.lk_epsilon_px, "LK stops a point once its update is below this (px)")
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
       .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
-           "forward-backward check only for points a cue flags moving (faster; tracks that fail it unseen "
+           "forward-backward check only for points a cue flags moving (faster; tracks that fail it "
+           "unseen "
            "still feed the ego-motion and F, which are robust to them)")
       .Add("lk_max_points", &o.lk_max_points,
            "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
       .Add("lk_seed_own_motion", &o.lk_seed_own_motion,
-           "seed LK with the filter's own last ego-motion when it has one (one frame old; the tracker's "
+           "seed LK with the filter's own last ego-motion when it has one (one frame old; the "
+           "tracker's "
            "prediction is older when pipelined)")
-      .Add("lk_fb_levels", &o.lk_fb_levels,
-           "pyramid levels above the base image of the forward-backward check (capped at lk_levels)")
-      .Add("lk_base_first_px", &o.lk_base_first_px,
-           "with a prediction: LK on the base image first, points ending farther than this from the "
-           "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
+      .Add(
+          "lk_fb_levels", &o.lk_fb_levels,
+          "pyramid levels above the base image of the forward-backward check (capped at lk_levels)")
+      .Add(
+          "lk_base_first_px", &o.lk_base_first_px,
+          "with a prediction: LK on the base image first, points ending farther than this from the "
+          "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
       .Add("lk_base_window_px", &o.lk_base_window_px,
            "LK window of the first base-image pass (px, odd, <= lk_window_px; 0: lk_window_px)")
       .Add("ego_skip_previous_mask", &o.ego_skip_previous_mask,
@@ -49,7 +53,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("bf_best_fraction", &o.bf_best_fraction,
            "descriptors: fraction of best matches used for F")
       .Add("bf_max_distance", &o.bf_max_distance, "descriptors: max Hamming distance of a match")
-      .Add("bf_max_ratio", &o.bf_max_ratio, "descriptors: Lowe ratio test, best/second best (1: off)")
+      .Add("bf_max_ratio", &o.bf_max_ratio,
+           "descriptors: Lowe ratio test, best/second best (1: off)")
       .Add("use_epipolar", &o.use_epipolar, "epipolar-distance cue")
       .Add("f_ransac_px", &o.f_ransac_px, "RANSAC inlier threshold for F (px)")
       .Add("f_confidence", &o.f_confidence, "RANSAC confidence for F")
@@ -77,7 +82,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "ego-motion: a prediction whose first refit lands within 2 mm / 1 mrad of a refined "
            "hypothesis is dropped (it would refine to the same pose)")
       .Add("ego_rigidity_ratio", &o.ego_rigidity_ratio,
-           "ego-motion: a prediction also wins when every hypothesis covering more of the image fits this "
+           "ego-motion: a prediction also wins when every hypothesis covering more of the image "
+           "fits this "
            "many times more loosely (a walking person fits a rigid motion loosely; 0: off)")
       .Add("residual_px", &o.residual_px,
            "warp residual above this (+ residual_rel * flow): moving")
@@ -109,6 +115,11 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("region_octave_reach", &o.region_octave_reach,
            "a keypoint of octave o is in a region when the mask is within 3*scale_factor^o - "
            "region_dilate_px px (its FAST circle reaches past the dilation)")
+      .Add("analyse_every", &o.analyse_every,
+           "run the cues on every Nth frame; between, only the suspect map is carried by the "
+           "motion prediction (1: every frame; flow correspondences only)")
+      .Add("carry_reach_px", &o.carry_reach_px,
+           "between analyses: the carried suspect map's dilation; keypoints in it are removed (px)")
       .Add("suspect_frames", &o.suspect_frames,
            "a dynamic region stays suspect this many frames (0: off)")
       .Add("suspect_depth_m", &o.suspect_depth_m, "suspect only where the depth still matches (m)")

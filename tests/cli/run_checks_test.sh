@@ -58,4 +58,22 @@ grep -qF "has no camera.yaml (use e.g. --config config/tum_fr3.yaml; a folder na
   fail "folder without camera.yaml: message '$err'"
 [[ ! -e "$DIR/other" ]] || fail "folder without camera.yaml: wrote output"
 
+# FAST mode's analysis schedule: every second frame analysed, the key in effect; bad values are
+# one message, exit 2, no output.
+cp "$SEQ/camera.yaml" "$DIR/every2.yaml"
+printf 'fast:\n  analyse_every: 2\n' >>"$DIR/every2.yaml"
+"$DYNORB" run --dataset "$SEQ" --mode fast --config "$DIR/every2.yaml" --out "$DIR/every2" --quiet >/dev/null 2>&1 ||
+  fail "fast with analyse_every 2: exit code $?"
+grep -q "analyse_every: 2" "$DIR/every2/effective_config.yaml" || fail "effective_config.yaml lacks fast.analyse_every"
+for bad in 'analyse_every: 0|analyse_every must be in \[1, 8\]' \
+           'analyse_every: 2\n  correspondences: descriptors|analyse_every > 1 needs correspondences: flow'; do
+  cp "$SEQ/camera.yaml" "$DIR/bad_fast.yaml"
+  printf "fast:\n  ${bad%%|*}\n" >>"$DIR/bad_fast.yaml"
+  err=$("$DYNORB" run --dataset "$SEQ" --mode fast --config "$DIR/bad_fast.yaml" --out "$DIR/bad_fast" --quiet 2>&1 >/dev/null)
+  code=$?
+  [[ $code == 2 ]] || fail "fast ${bad%%|*}: exit code $code ($err)"
+  grep -q -- "${bad#*|}" <<<"$err" || fail "fast ${bad%%|*}: message '$err'"
+  [[ ! -e "$DIR/bad_fast" ]] || fail "fast ${bad%%|*}: wrote output"
+done
+
 finish "run checks"

@@ -57,10 +57,15 @@ bool FastFilter::MaskCoversDetections() const {
 }
 
 FilterOutput FastFilter::Filter(const FilterInput& input) {
+  if (has_previous_ && frames_since_analysis_ + 1 < options_.analyse_every) {
+    ++frames_since_analysis_;
+    return CarryForward(input);
+  }
   Stopwatch total, watch;
   timing_ = FastTiming();
   info_ = FastFrameInfo();
   FrameWork w(input, options_);
+  frames_since_analysis_ = 0;
   info_.num_keypoints = static_cast<int>(w.n);
   FilterOutput out;
   out.keep.assign(w.n, true);
@@ -100,6 +105,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   if (!w.final_mask.empty()) out.dynamic_mask = w.final_mask;
 
   out.judged = has_previous_;
+  judged_once_ = judged_once_ || has_previous_;
   // Keep the current frame as the next frame's previous one.
   has_previous_ = true;
   previous_pyramid_ = std::move(w.pyramid);
@@ -118,6 +124,73 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
     }
   }
   timing_.total_ms = total.ElapsedMs();
+  total_timing_ += timing_;
+  ++frames_;
+  return out;
+}
+
+FilterOutput FastFilter::CarryForward(const FilterInput& input) {
+  Stopwatch total;
+  timing_ = FastTiming();
+  info_ = FastFrameInfo();
+  const std::vector<cv::KeyPoint>& keypoints = input.keypoints->keypoints;
+  const size_t n = keypoints.size();
+  info_.num_keypoints = static_cast<int>(n);
+  FilterOutput out;
+  out.keep.assign(n, true);
+  out.judged = judged_once_;
+  cue_bits_.assign(n, 0);
+  last_p1_.clear();
+  last_residual_.assign(n, -1.f);
+  const cv::Mat& depth = *input.depth_m;
+  const int s = options_.region_scale;
+  // The motion since the previous frame: the tracker's prediction, else the last ego-motion.
+  std::optional<Rigid3d> prev_from_cur = own_prev_from_cur_;
+  if (input.predicted_cam_from_previous_cam)
+    prev_from_cur = input.predicted_cam_from_previous_cam->Inverse();
+  SuspectMap carried;
+  cv::Mat mask;
+  if (prev_from_cur && !suspect_.empty() && options_.suspect_frames > 0) {
+    const cv::Mat low_depth = DownsampleDepth(depth, s, static_cast<float>(options_.max_depth_m));
+    carried = PropagateSuspect(suspect_, low_depth, camera_, s, *prev_from_cur,
+                               options_.suspect_frames, options_.suspect_depth_m);
+    // The carried cells passed the propagation's depth check (the region's depth, warped, against
+    // this frame's); dilated like a grown region's mask, which covers the mover's outline corners
+    // and part of its own motion since.
+    mask = UpsampleAndDilate(carried.Suspect(options_.suspect_frames), s, depth.size(),
+                             static_cast<int>(std::lround(options_.carry_reach_px)));
+  }
+  std::vector<cv::Point2f> points(n);
+  previous_flagged_.clear();
+  for (size_t i = 0; i < n; ++i) {
+    points[i] = keypoints[i].pt;
+    if (mask.empty()) continue;
+    const int x = std::clamp(static_cast<int>(std::lround(points[i].x)), 0, mask.cols - 1);
+    const int y = std::clamp(static_cast<int>(std::lround(points[i].y)), 0, mask.rows - 1);
+    if (!mask.at<uint8_t>(y, x)) continue;
+    out.keep[i] = false;
+    cue_bits_[i] = kCueSuspect;
+    ++info_.num_removed;
+    previous_flagged_.push_back(points[i]);
+  }
+  if (input.want_overlay) out.overlay = DrawOverlay(input, {}, {}, mask);
+  if (!mask.empty()) out.dynamic_mask = mask;
+  // This frame is the next analysis's previous one: its pyramid, keypoints (no track history:
+  // their correspondences were not computed), depth, carried suspect map and removals.
+  previous_pyramid_ = BuildLkPyramid(*input.gray, lk_);
+  previous_keypoints_ = keypoints;
+  previous_points_ = std::move(points);
+  previous_history_.assign(n, 0);
+  previous_depth_ = depth.clone();
+  suspect_ = std::move(carried);
+  previous_mask_ = mask.empty() ? cv::Mat() : mask.clone();
+  if (options_.ego_previous_removed) {
+    for (const cv::Point2f& p : previous_flagged_) {
+      if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(depth.size(), CV_8U);
+      cv::circle(previous_mask_, p, 2, cv::Scalar(255), cv::FILLED);
+    }
+  }
+  timing_.region_ms = timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
   return out;

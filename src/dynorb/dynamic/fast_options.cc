@@ -51,6 +51,10 @@ void FastOptions::Validate() const {
   Require(region_max_area > 0.0 && region_max_area <= 1.0, "region_max_area must be in (0, 1]");
   Require(region_dilate_px >= 0 && region_dilate_px <= 50, "region_dilate_px must be in [0, 50]");
   Require(suspect_frames >= 0 && suspect_frames <= 30, "suspect_frames must be in [0, 30]");
+  Require(analyse_every >= 1 && analyse_every <= 8, "analyse_every must be in [1, 8]");
+  Require(analyse_every == 1 || method() == CorrespondenceMethod::kOpticalFlow,
+          "analyse_every > 1 needs correspondences: flow");
+  Require(carry_reach_px >= 0.0 && carry_reach_px <= 64.0, "carry_reach_px must be in [0, 64]");
   Require(suspect_depth_m > 0.0, "suspect_depth_m must be > 0");
   Require(track_history >= 1 && track_history <= 16, "track_history must be in [1, 16]");
   Require(refill_min_removed_fraction >= 0.0 && refill_min_removed_fraction <= 1.0,

@@ -117,6 +117,13 @@ struct FastOptions {
   // cell was in a region at most this many frames ago (>= suspect_frames: always, the default;
   // 0: never). Measured in session 24 and not adopted: 1 loses a pushed box the suspect map holds.
   int lone_suspect_max_age = 30;
+  // --- Analysis schedule (session 41). The cues run on every analyse_every-th frame; on the
+  // frames between, only the suspect map is carried (warped by the tracker's motion prediction,
+  // kept where the depth matches) and the keypoints in it, dilated by carry_reach_px, are removed;
+  // such a frame still becomes the next frame's previous one (its LK pyramid is built), so every
+  // analysis tracks across one frame. Flow correspondences only.
+  int analyse_every = 1;
+  double carry_reach_px = 8.0;
   // --- Refill (SystemOptions::refill_filtered).
   // When a frame's removals reach this fraction of its keypoints (and it has a grown region),
   // the mask is taken to cover the movers (KeypointFilter::MaskCoversDetections): the System
