@@ -114,19 +114,22 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   previous_points_ = w.p2;
   previous_history_ = std::move(w.history);
   previous_depth_ = w.depth.clone();
-  previous_mask_ = w.final_mask.empty() ? cv::Mat() : w.final_mask.clone();
-  if (options_.ego_previous_removed) {
-    // The flagged keypoints themselves (every removed one, and the lone seeds kept since
-    // session 24) are part of the prior too: a region need not cover all of a mover's keypoints.
-    for (const cv::Point2f& p : previous_flagged_) {
-      if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(w.depth.size(), CV_8U);
-      cv::circle(previous_mask_, p, 2, cv::Scalar(255), cv::FILLED);
-    }
-  }
+  KeepPreviousMask(w.final_mask, w.depth.size());
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
   return out;
+}
+
+void FastFilter::KeepPreviousMask(const cv::Mat& mask, cv::Size size) {
+  previous_mask_ = mask.empty() ? cv::Mat() : mask.clone();
+  if (!options_.ego_previous_removed) return;
+  // The flagged keypoints themselves (every removed one, and the lone seeds kept since session
+  // 24) are part of the prior too: a region need not cover all of a mover's keypoints.
+  for (const cv::Point2f& p : previous_flagged_) {
+    if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(size, CV_8U);
+    cv::circle(previous_mask_, p, 2, cv::Scalar(255), cv::FILLED);
+  }
 }
 
 FilterOutput FastFilter::CarryForward(const FilterInput& input) {
@@ -183,13 +186,7 @@ FilterOutput FastFilter::CarryForward(const FilterInput& input) {
   previous_history_.assign(n, 0);
   previous_depth_ = depth.clone();
   suspect_ = std::move(carried);
-  previous_mask_ = mask.empty() ? cv::Mat() : mask.clone();
-  if (options_.ego_previous_removed) {
-    for (const cv::Point2f& p : previous_flagged_) {
-      if (previous_mask_.empty()) previous_mask_ = cv::Mat::zeros(depth.size(), CV_8U);
-      cv::circle(previous_mask_, p, 2, cv::Scalar(255), cv::FILLED);
-    }
-  }
+  KeepPreviousMask(mask, depth.size());
   timing_.region_ms = timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;

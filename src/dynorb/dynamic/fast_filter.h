@@ -111,6 +111,9 @@ class FastFilter : public KeypointFilter {
   void GrowRegionsAndRemove(FrameWork* w, FilterOutput* out);  // 5. suspect map, 6.
   // A frame between analyses (FastOptions::analyse_every): the carried suspect map's removals.
   FilterOutput CarryForward(const FilterInput& input);
+  // previous_mask_ for the next frame's ego-motion prior: `mask` (may be empty) plus, with
+  // ego_previous_removed, 2 px disks at previous_flagged_.
+  void KeepPreviousMask(const cv::Mat& mask, cv::Size size);
   cv::Mat DrawOverlay(const FilterInput& input, const std::vector<cv::Point2f>& p1,
                       const std::vector<cv::Point2f>& p2, const cv::Mat& mask) const;
 
