@@ -66,7 +66,8 @@ printf 'fast:\n  analyse_every: 2\n' >>"$DIR/every2.yaml"
   fail "fast with analyse_every 2: exit code $?"
 grep -q "analyse_every: 2" "$DIR/every2/effective_config.yaml" || fail "effective_config.yaml lacks fast.analyse_every"
 for bad in 'analyse_every: 0|analyse_every must be in \[1, 8\]' \
-           'analyse_every: 2\n  correspondences: descriptors|analyse_every > 1 needs correspondences: flow'; do
+           'analyse_every: 2\n  correspondences: descriptors|analyse_every > 1 needs correspondences: flow' \
+           'analyse_every: 2\n  suspect_frames: 0|analyse_every > 1 needs use_region and suspect_frames > 0'; do
   cp "$SEQ/camera.yaml" "$DIR/bad_fast.yaml"
   printf "fast:\n  ${bad%%|*}\n" >>"$DIR/bad_fast.yaml"
   err=$("$DYNORB" run --dataset "$SEQ" --mode fast --config "$DIR/bad_fast.yaml" --out "$DIR/bad_fast" --quiet 2>&1 >/dev/null)

@@ -153,14 +153,16 @@ FilterOutput FastFilter::CarryForward(const FilterInput& input) {
     prev_from_cur = input.predicted_cam_from_previous_cam->Inverse();
   SuspectMap carried;
   cv::Mat mask;
-  if (prev_from_cur && !suspect_.empty() && options_.suspect_frames > 0) {
+  if (prev_from_cur && !suspect_.empty()) {
     const cv::Mat low_depth = DownsampleDepth(depth, s, static_cast<float>(options_.max_depth_m));
     carried = PropagateSuspect(suspect_, low_depth, camera_, s, *prev_from_cur,
                                options_.suspect_frames, options_.suspect_depth_m);
     // The carried cells passed the propagation's depth check (the region's depth, warped, against
     // this frame's); dilated like a grown region's mask, which covers the mover's outline corners
     // and part of its own motion since.
-    mask = UpsampleAndDilate(carried.Suspect(options_.suspect_frames), s, depth.size(),
+    // A keypoint in the suspect map alone is removed up to lone_suspect_max_age (as analysed).
+    const int max_age = std::min(options_.suspect_frames, options_.lone_suspect_max_age);
+    mask = UpsampleAndDilate(carried.Suspect(max_age), s, depth.size(),
                              static_cast<int>(std::lround(options_.carry_reach_px)));
   }
   std::vector<cv::Point2f> points(n);
@@ -180,14 +182,17 @@ FilterOutput FastFilter::CarryForward(const FilterInput& input) {
   if (!mask.empty()) out.dynamic_mask = mask;
   // This frame is the next analysis's previous one: its pyramid, keypoints (no track history:
   // their correspondences were not computed), depth, carried suspect map and removals.
+  timing_.region_ms = total.ElapsedMs();
+  Stopwatch pyramid;
   previous_pyramid_ = BuildLkPyramid(*input.gray, lk_);
+  timing_.flow_ms = pyramid.ElapsedMs();
   previous_keypoints_ = keypoints;
   previous_points_ = std::move(points);
   previous_history_.assign(n, 0);
   previous_depth_ = depth.clone();
   suspect_ = std::move(carried);
   KeepPreviousMask(mask, depth.size());
-  timing_.region_ms = timing_.total_ms = total.ElapsedMs();
+  timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
   return out;

@@ -121,7 +121,10 @@ struct FastOptions {
   // frames between, only the suspect map is carried (warped by the tracker's motion prediction,
   // kept where the depth matches) and the keypoints in it, dilated by carry_reach_px, are removed;
   // such a frame still becomes the next frame's previous one (its LK pyramid is built), so every
-  // analysis tracks across one frame. Flow correspondences only.
+  // analysis tracks across one frame. Flow correspondences only; needs use_region and
+  // suspect_frames > 0. The track memory (track_min_moving) and a lone seed's persistence
+  // (lone_seed_persistent_px) span consecutive analysed frames only: a frame between analyses
+  // starts its keypoints without history, and flags only what it removed.
   int analyse_every = 1;
   double carry_reach_px = 8.0;
   // --- Refill (SystemOptions::refill_filtered).
