@@ -71,16 +71,36 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   }
 
   bool ok = false;
+  bool local_map_tracked = false;
+  int inliers = 0;
   if (state_ == TrackingState::kOk) {
-    ReanchorAfterCorrection();
-    RefreshLandmarkPoints(&last_frame_);
-    const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
-    PredictCentre(frame, just_relocalized);
-    if (velocity_ && !just_relocalized) {
-      ok = TrackWithMotionModel(&frame);
-      if (!ok) ok = TrackReferenceKeyframe(&frame);
-    } else {
-      ok = TrackReferenceKeyframe(&frame);
+    // A correction (loop, global BA) that lands while the frame is tracked leaves its pose resting
+    // on landmarks of both maps (the motion-model search saw the old one, the local map the new
+    // one): such a frame is tracked again, from the start, in the corrected map. Parallel mode
+    // only: in sequential mode corrections land between frames.
+    const Frame input = frame;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      if (attempt > 0) frame = input;
+      ReanchorAfterCorrection();
+      RefreshLandmarkPoints(&last_frame_);
+      const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
+      PredictCentre(frame, just_relocalized);
+      if (velocity_ && !just_relocalized) {
+        ok = TrackWithMotionModel(&frame);
+        if (!ok) ok = TrackReferenceKeyframe(&frame);
+      } else {
+        ok = TrackReferenceKeyframe(&frame);
+      }
+      if (ok) {
+        Stopwatch watch;
+        ok = TrackLocalMap(&frame, &inliers);
+        result.local_map_ms += watch.ElapsedMs();
+        local_map_tracked = true;
+      }
+      const bool corrected_meanwhile = map_->Read(
+          [&](const MapData& map) { return map.correction_epoch() != seen_correction_epoch_; });
+      if (!corrected_meanwhile) break;
+      ++result.retracked_after_correction;
     }
   } else {
     centre_prior_.reset();
@@ -95,8 +115,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     }
   }
 
-  int inliers = 0;
-  if (ok) {
+  if (ok && !local_map_tracked) {
     Stopwatch watch;
     ok = TrackLocalMap(&frame, &inliers);
     result.local_map_ms = watch.ElapsedMs();

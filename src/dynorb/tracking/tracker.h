@@ -35,6 +35,8 @@ struct TrackingResult {
   int num_inliers = 0;
   bool relocalized = false;
   double local_map_ms = 0.0;               // Time spent on local-map tracking.
+  int retracked_after_correction = 0;      // Times the frame was tracked again because a
+                                           // correction landed while it was tracked.
   std::vector<int> inlier_keypoints;       // Keypoints the final pose rests on (frame feature indices).
   std::vector<int> new_landmark_keypoints;  // Keypoints that became new landmarks (new keyframe).
 };
