@@ -99,7 +99,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       }
       const bool corrected_meanwhile = map_->Read(
           [&](const MapData& map) { return map.correction_epoch() != seen_correction_epoch_; });
-      if (!corrected_meanwhile) break;
+      if (!corrected_meanwhile || attempt == 2) break;
       ++result.retracked_after_correction;
     }
   } else {
