@@ -16,8 +16,7 @@
 //    every landmark follows its reference keyframe. The map's correction epoch is bumped so the
 //    tracker re-anchors its last frame.
 // 4. global bundle adjustment (global_bundle_adjustment.h): inline, or with global_ba_thread
-// (parallel
-//    mode) on a thread of its own that a newer loop stops.
+//    (parallel mode) on a thread of its own that a newer loop stops.
 // Runs on the mapper's thread (parallel mode) or inline (sequential: deterministic).
 #pragma once
 

@@ -78,9 +78,14 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     // on landmarks of both maps (the motion-model search saw the old one, the local map the new
     // one): such a frame is tracked again, from the start, in the corrected map. Parallel mode
     // only: in sequential mode corrections land between frames.
-    const Frame input = frame;
+    const Rigid3d input_pose = frame.cam_from_world;
+    const KeyframeId input_reference = frame.reference_keyframe;
     for (int attempt = 0; attempt < 3; ++attempt) {
-      if (attempt > 0) frame = input;
+      if (attempt > 0) {  // back to the frame as it came (no copy of it on every frame)
+        frame.ResetMatches();
+        frame.cam_from_world = input_pose;
+        frame.reference_keyframe = input_reference;
+      }
       ReanchorAfterCorrection();
       RefreshLandmarkPoints(&last_frame_);
       const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
