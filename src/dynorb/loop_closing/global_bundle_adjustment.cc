@@ -118,7 +118,7 @@ GlobalBaStats RunGlobalBundleAdjustment(Map* map, const RgbdSensor& sensor,
   Stopwatch watch;
   GlobalBundleAdjustment gba =
       map->Read([](const MapData& data) { return GlobalBundleAdjustment(data); });
-  if (gba.Solve(sensor, options)) map->Write([&](MapData& data) { return gba.Commit(&data); });
+  if (gba.Solve(sensor, options)) map->Correct([&](MapData& data) { return gba.Commit(&data); });
   GlobalBaStats stats = gba.stats();
   stats.ms = watch.ElapsedMs();
   return stats;

@@ -182,7 +182,7 @@ LoopStepStats LoopCloser::ProcessOne(KeyframeId keyframe) {
       map_->Read(verify);
   }
   if (loop_keyframe != kNoKeyframe) {
-    map_->Write([&](MapData& map) { Correct(&map, keyframe, loop_keyframe, verified, &stats); });
+    map_->Correct([&](MapData& map) { Correct(&map, keyframe, loop_keyframe, verified, &stats); });
     if (stats.closed && options_.global_ba) StartGlobalBa();
   }
   stats.ms = watch.ElapsedMs();

@@ -3,9 +3,12 @@
 // MapData holds the entities (ordered by id, so iteration is deterministic) and the operations
 // that keep them consistent; its methods assume the caller holds the map lock. Map owns one
 // MapData behind ONE private mutex, reachable only through Read() (shared, for snapshots) and
-// Write() (exclusive): long work is snapshot -> solve unlocked -> commit.
+// Write() (exclusive): long work is snapshot -> solve unlocked -> commit. A correction of the
+// whole map (Correct(): loop closure, global BA commit) also waits on that mutex until the frame
+// being tracked (BeginFrame()) is done, as ORB-SLAM2's tracking holds its map-update mutex.
 #pragma once
 
+#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,25 +35,14 @@ class MapData {
   // Counts corrections that moved keyframes and landmarks at once (loop closures, global BA): a
   // tracker holding poses from before re-anchors them to their reference keyframes when it changes.
   uint64_t correction_epoch() const { return correction_epoch_; }
-  // `poses_before`: every keyframe's cam_from_world before the correction. The last
-  // kKeptCorrections corrections' are kept (a frame tracked while two landed needs the first's).
-  static constexpr size_t kKeptCorrections = 8;
+  // `poses_before`: every keyframe's cam_from_world before the correction (kept for the latest).
   void NoteCorrection(std::map<KeyframeId, Rigid3d> poses_before) {
     ++correction_epoch_;
-    poses_before_correction_[correction_epoch_] = std::move(poses_before);
-    while (poses_before_correction_.size() > kKeptCorrections)
-      poses_before_correction_.erase(poses_before_correction_.begin());
-  }
-  // The poses before correction number `epoch` (1 = the first); nullptr if not kept.
-  const std::map<KeyframeId, Rigid3d>* PosesBeforeCorrection(uint64_t epoch) const {
-    const auto it = poses_before_correction_.find(epoch);
-    return it != poses_before_correction_.end() ? &it->second : nullptr;
+    poses_before_correction_ = std::move(poses_before);
   }
   // The latest correction's (empty before the first).
   const std::map<KeyframeId, Rigid3d>& poses_before_correction() const {
-    static const std::map<KeyframeId, Rigid3d> kNone;
-    const auto* latest = PosesBeforeCorrection(correction_epoch_);
-    return latest != nullptr ? *latest : kNone;
+    return poses_before_correction_;
   }
 
   // Assigns the id; landmarks vector sized to features. With a vocabulary, a keyframe that comes
@@ -120,7 +112,7 @@ class MapData {
   std::shared_ptr<const Vocabulary> vocabulary_;
   KeyframeDatabase database_;
   uint64_t correction_epoch_ = 0;
-  std::map<uint64_t, std::map<KeyframeId, Rigid3d>> poses_before_correction_;  // by epoch
+  std::map<KeyframeId, Rigid3d> poses_before_correction_;
 };
 
 class Map {
@@ -136,8 +128,57 @@ class Map {
     return f(data_);
   }
 
+  // Write() for a correction that moves the whole map (MapData::NoteCorrection): it waits until
+  // no frame is being tracked, and no frame begins while it waits. A frame's tracking thus sees
+  // the map entirely before or entirely after each correction, never a mix of both.
+  template <typename F>
+  auto Correct(F&& f) {
+    std::unique_lock<std::shared_mutex> lock(mutex_);
+    ++corrections_waiting_;
+    gate_.wait(lock, [this] { return frames_in_progress_ == 0; });
+    --corrections_waiting_;
+    const WakeOnExit wake{&gate_};  // the frames waiting to begin
+    return f(data_);
+  }
+
+  // The tracking of one frame, from BeginFrame() until the scope ends (one at a time; frames and
+  // corrections on different threads: a thread that holds a scope must not call Correct()).
+  class FrameScope {
+   public:
+    explicit FrameScope(Map* map) : map_(map) {}
+    FrameScope(const FrameScope&) = delete;
+    FrameScope& operator=(const FrameScope&) = delete;
+    ~FrameScope() { map_->EndFrame(); }
+
+   private:
+    Map* map_;
+  };
+  int corrections_waiting() const {
+    std::shared_lock<std::shared_mutex> lock(mutex_);
+    return corrections_waiting_;
+  }
+  [[nodiscard]] FrameScope BeginFrame() {
+    std::unique_lock<std::shared_mutex> lock(mutex_);
+    gate_.wait(lock, [this] { return corrections_waiting_ == 0; });
+    ++frames_in_progress_;
+    return FrameScope(this);
+  }
+
  private:
+  struct WakeOnExit {
+    std::condition_variable_any* gate;
+    ~WakeOnExit() { gate->notify_all(); }
+  };
+  void EndFrame() {
+    std::unique_lock<std::shared_mutex> lock(mutex_);
+    --frames_in_progress_;
+    gate_.notify_all();
+  }
+
   mutable std::shared_mutex mutex_;
+  std::condition_variable_any gate_;  // frames_in_progress_ / corrections_waiting_ changed
+  int frames_in_progress_ = 0;
+  int corrections_waiting_ = 0;
   MapData data_;
 };
 

@@ -1,8 +1,11 @@
 #include "dynorb/map/map.h"
 
+#include <atomic>
+#include <chrono>
 #include <limits>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -263,25 +266,58 @@ TEST_F(MapDataTest, FirstInconsistencyNamesABrokenLink) {
       << map_.FirstInconsistency();
 }
 
-TEST(MapData, KeepsThePosesBeforeTheLastCorrections) {
+TEST(MapData, KeepsThePosesBeforeTheLastCorrection) {
   MapData map;
   EXPECT_TRUE(map.poses_before_correction().empty());
-  EXPECT_EQ(map.PosesBeforeCorrection(1), nullptr);
-  const size_t n = MapData::kKeptCorrections + 2;
-  for (size_t e = 1; e <= n; ++e) {
+  for (int e = 1; e <= 3; ++e) {
     std::map<KeyframeId, Rigid3d> before;
-    before[0] =
-        Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(static_cast<double>(e), 0, 0));
+    before[0] = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(e, 0, 0));
     map.NoteCorrection(before);
   }
-  EXPECT_EQ(map.correction_epoch(), n);
-  EXPECT_EQ(map.PosesBeforeCorrection(1), nullptr);
-  EXPECT_EQ(map.PosesBeforeCorrection(2), nullptr);
-  for (size_t e = 3; e <= n; ++e) {
-    ASSERT_NE(map.PosesBeforeCorrection(e), nullptr);
-    EXPECT_EQ(map.PosesBeforeCorrection(e)->at(0).translation.x(), static_cast<double>(e));
+  EXPECT_EQ(map.correction_epoch(), 3u);
+  EXPECT_EQ(map.poses_before_correction().at(0).translation.x(), 3.0);
+}
+
+// A correction waits for the frame being tracked, and a frame does not begin while a correction
+// waits (otherwise back-to-back frames could hold it off for ever). Sleeps only give the other
+// thread a chance to do what it must not: they cannot make a correct gate fail.
+TEST(Map, CorrectionsWaitForTheFrameInProgress) {
+  Map map;
+  std::atomic<bool> corrected{false}, second_frame_began{false}, corrected_before_second{false};
+  std::thread corrector, second_frame;
+  {
+    const Map::FrameScope frame = map.BeginFrame();
+    corrector = std::thread([&] {
+      map.Correct([&](MapData& data) {
+        data.NoteCorrection({});
+        corrected = true;
+        return 0;
+      });
+    });
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (map.corrections_waiting() == 0 && !corrected &&
+           std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::yield();
+    }
+    EXPECT_EQ(map.corrections_waiting(), 1);
+    second_frame = std::thread([&] {
+      const Map::FrameScope next = map.BeginFrame();
+      corrected_before_second = corrected.load();
+      second_frame_began = true;
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    EXPECT_FALSE(corrected);
+    EXPECT_FALSE(second_frame_began);
+    // The frame still reads and writes the map: the waiting correction does not hold the lock.
+    EXPECT_EQ(map.Read([](const MapData& d) { return d.correction_epoch(); }), 0u);
+    map.Write([](MapData& d) { return d.AddLandmark(Landmark()); });
   }
-  EXPECT_EQ(map.poses_before_correction().at(0).translation.x(), static_cast<double>(n));
+  corrector.join();
+  second_frame.join();
+  EXPECT_TRUE(corrected);
+  EXPECT_TRUE(corrected_before_second);
+  EXPECT_EQ(map.Read([](const MapData& d) { return d.correction_epoch(); }), 1u);
+  EXPECT_EQ(map.corrections_waiting(), 0);
 }
 
 TEST(Map, ReadWriteUnderOneLock) {

@@ -53,6 +53,9 @@ Tracker::Tracker(const RgbdSensor& sensor, const TrackerOptions& options, Map* m
 }
 
 TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
+  // No correction (loop, global BA) lands while this frame is tracked: its pose rests on the map
+  // either before or after it, and the next frame re-anchors (ReanchorAfterCorrection).
+  const Map::FrameScope in_frame = map_->BeginFrame();
   TrackingResult result;
   if (state_ == TrackingState::kNotInitialized) {
     if (Initialize(&frame, &result.new_landmark_keypoints)) {
@@ -71,46 +74,22 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   }
 
   bool ok = false;
-  bool local_map_tracked = false;
   int inliers = 0;
   if (state_ == TrackingState::kOk) {
-    // A correction (loop, global BA) that lands while the frame is tracked leaves its pose resting
-    // on landmarks of both maps (the motion-model search saw the old one, the local map the new
-    // one): such a frame is tracked again, from the start, in the corrected map. Parallel mode
-    // only: in sequential mode corrections land between frames.
-    const Rigid3d input_pose = frame.cam_from_world;
-    const KeyframeId input_reference = frame.reference_keyframe;
-    for (int attempt = 0; attempt < 3; ++attempt) {
-      if (attempt > 0) {  // back to the frame as it came (no copy of it on every frame)
-        frame.ResetMatches();
-        frame.cam_from_world = input_pose;
-        frame.reference_keyframe = input_reference;
-      }
-      ReanchorAfterCorrection();
-      RefreshLandmarkPoints(&last_frame_);
-      const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
-      PredictCentre(frame, just_relocalized);
-      if (velocity_ && !just_relocalized) {
-        ok = TrackWithMotionModel(&frame);
-        if (!ok) ok = TrackReferenceKeyframe(&frame);
-      } else {
-        ok = TrackReferenceKeyframe(&frame);
-      }
-      if (ok) {
-        Stopwatch watch;
-        ok = TrackLocalMap(&frame, &inliers);
-        result.local_map_ms += watch.ElapsedMs();
-        local_map_tracked = true;
-      }
-      const bool corrected_meanwhile = map_->Read(
-          [&](const MapData& map) { return map.correction_epoch() != seen_correction_epoch_; });
-      if (!corrected_meanwhile || attempt == 2) break;
-      ++result.retracked_after_correction;
+    ReanchorAfterCorrection();
+    RefreshLandmarkPoints(&last_frame_);
+    const bool just_relocalized = ever_relocalized_ && frame.id < last_relocalization_frame_ + 2;
+    PredictCentre(frame, just_relocalized);
+    if (velocity_ && !just_relocalized) {
+      ok = TrackWithMotionModel(&frame);
+      if (!ok) ok = TrackReferenceKeyframe(&frame);
+    } else {
+      ok = TrackReferenceKeyframe(&frame);
     }
   } else {
     centre_prior_.reset();
     // Relocalisation finds a pose in the map as it is now: corrections that landed while the
-    // tracker was lost must not move that pose again (AdaptToCorrectionDuringFrame).
+    // tracker was lost must not move the next frame's motion model again.
     ReanchorAfterCorrection();
     ok = Relocalize(&frame);
     if (ok) {
@@ -120,7 +99,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     }
   }
 
-  if (ok && !local_map_tracked) {
+  if (ok) {
     Stopwatch watch;
     ok = TrackLocalMap(&frame, &inliers);
     result.local_map_ms = watch.ElapsedMs();
@@ -129,7 +108,6 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
   result.state = state_;
   result.num_inliers = inliers;
   if (ok) {
-    map_->Read([&](const MapData& map) { AdaptToCorrectionDuringFrame(map, &frame); });
     if (last_frame_.features) velocity_ = frame.cam_from_world * last_frame_.cam_from_world.Inverse();
     UpdateCentreVelocity(frame, result.relocalized);
     result.pose_valid = true;
@@ -145,21 +123,12 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       if (frame.outlier[i]) frame.landmarks[i] = kNoLandmark;
     }
     result.reference_keyframe = reference_keyframe_;
-    {
-      // In one read: a correction committed since the keyframe decision moves this frame first,
-      // so its pose relative to the reference keyframe is the corrected map's.
-      last_reference_keyframe_ = reference_keyframe_;
-      last_from_reference_ = map_->Read([&](const MapData& map) {
-        AdaptToCorrectionDuringFrame(map, &frame);
-        if (reference_keyframe_ == kNoKeyframe) return Rigid3d();
-        return frame.cam_from_world * (map.HasKeyframe(reference_keyframe_)
-                                           ? map.keyframe(reference_keyframe_).cam_from_world
-                                           : map.ResolveKeyframePose(reference_keyframe_))
-                                          .Inverse();
-      });
-      result.cam_from_world = frame.cam_from_world;
-      result.cam_from_reference = last_from_reference_;
-    }
+    last_reference_keyframe_ = reference_keyframe_;
+    last_from_reference_ = map_->Read([&](const MapData& map) {
+      if (reference_keyframe_ == kNoKeyframe) return Rigid3d();
+      return frame.cam_from_world * map.ResolveKeyframePose(reference_keyframe_).Inverse();
+    });
+    result.cam_from_reference = last_from_reference_;
     last_frame_ = std::move(frame);
   } else {
     velocity_.reset();
@@ -187,28 +156,6 @@ void Tracker::ReanchorAfterCorrection() {
     }
     centre_model_.Reset();
   });
-}
-
-void Tracker::AdaptToCorrectionDuringFrame(const MapData& map, Frame* frame) {
-  if (map.correction_epoch() == seen_correction_epoch_) return;
-  // The frame was tracked in the map as it was before correction seen + 1 (one or more may have
-  // landed since: a loop and its global BA).
-  const auto* before = map.PosesBeforeCorrection(seen_correction_epoch_ + 1);
-  if (before == nullptr) return;
-  const auto it = before->find(frame->reference_keyframe);
-  if (it != before->end() && map.HasKeyframe(frame->reference_keyframe)) {
-    const Rigid3d old_from_new =
-        it->second.Inverse() * map.keyframe(frame->reference_keyframe).cam_from_world;
-    frame->cam_from_world = frame->cam_from_world * old_from_new;
-    last_frame_.cam_from_world = last_frame_.cam_from_world * old_from_new;
-    for (size_t i = 0; i < frame->landmarks.size(); ++i) {
-      if (frame->landmarks[i] != kNoLandmark && map.HasLandmark(frame->landmarks[i])) {
-        frame->landmark_points[i] = map.landmark(frame->landmarks[i]).point_in_world;
-      }
-    }
-    seen_correction_epoch_ = map.correction_epoch();
-    centre_model_.Reset();
-  }
 }
 
 Rigid3d Tracker::LastFramePoseNow() const {
@@ -426,7 +373,6 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
   BowVector bow;
   if (vocabulary) bow = vocabulary->Transform(f.descriptors());
   const KeyframeId id = map_->Write([&](MapData& map) {
-    AdaptToCorrectionDuringFrame(map, frame);
     const Rigid3d world_from_cam = frame->cam_from_world.Inverse();
     Keyframe kf;
     kf.frame_id = frame->id;

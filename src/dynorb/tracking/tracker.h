@@ -35,8 +35,6 @@ struct TrackingResult {
   int num_inliers = 0;
   bool relocalized = false;
   double local_map_ms = 0.0;               // Time spent on local-map tracking.
-  int retracked_after_correction = 0;      // Times the frame was tracked again because a
-                                           // correction landed while it was tracked.
   std::vector<int> inlier_keypoints;       // Keypoints the final pose rests on (frame feature indices).
   std::vector<int> new_landmark_keypoints;  // Keypoints that became new landmarks (new keyframe).
 };
@@ -92,10 +90,6 @@ class Tracker {
   // After a correction of the whole map (MapData::correction_epoch, loop closing) the last frame
   // follows its reference keyframe, so the motion model predicts in the corrected map.
   void ReanchorAfterCorrection();
-  // Parallel mode: a correction committed while this frame was being tracked (its pose rests on
-  // the landmarks from before). Moves the frame and the last frame by the correction of the
-  // frame's reference keyframe, before the frame can become a keyframe or an anchor.
-  void AdaptToCorrectionDuringFrame(const MapData& map, Frame* frame);
   uint64_t seen_correction_epoch_ = 0;
   KeyframeId reference_keyframe_ = kNoKeyframe;
   FrameId last_keyframe_frame_ = 0;
