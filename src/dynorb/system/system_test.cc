@@ -96,21 +96,27 @@ TEST(System, ClosesTheLoopAfterAFullTurnAndKeepsTracking) {
     const int first = static_cast<int>(std::lround(t.front().timestamp_s * 30.0));
     EXPECT_LE(first, 15);
     EXPECT_EQ(t.size(), static_cast<size_t>(frames - first));
-    double worst = 0.0;
+    // Worst position error over every frame, and over the frames from the full turn on (the
+    // loop correction and the global BA land among them).
+    double worst = 0.0, worst_from_turn = 0.0;
     for (const StampedPose& p : t) {
       const int k = static_cast<int>(std::lround(p.timestamp_s * 30.0));
       const Rigid3d truth =
           turned(first).Inverse() * turned(k);  // world = the first keyframe's camera
-      worst = std::max(worst, (p.world_from_cam.translation - truth.translation).norm());
+      const double error = (p.world_from_cam.translation - truth.translation).norm();
+      worst = std::max(worst, error);
+      if (k >= 180) worst_from_turn = std::max(worst_from_turn, error);
     }
     // Parallel mode makes its keyframes at other frames and drifts more before the loop (up to
     // 3 cm measured); the pose graph spreads the correction over the frames in between. No
-    // correction lands while a frame is tracked (Map::Correct waits for it). On a loaded machine
-    // (3 processes on 2 cores, 300-375 runs per variant, session 42) a few frames before the loop
-    // (frames 140-150) still end 3-5 cm off in about 1 run of 100 with the global BA on the
-    // mapper's thread and up to 6.7 cm with it on its own thread, before the gate as after it.
-    const double bound = mode == RunMode::kSequential ? 0.02 : thread ? 0.08 : 0.035;
-    EXPECT_LT(worst, bound) << "worst " << worst;
+    // correction lands while a frame is tracked (Map::Correct waits for it): on a loaded machine
+    // (3 processes on 2 cores, 300 logged runs of each parallel variant, session 42) no frame from
+    // the full turn on was more than 3.2 cm off. Before the turn a few frames (140-150, tracked
+    // against one keyframe while the busy mapper let no new one be made) ended 3-5.3 cm off in
+    // about 1 run of 100, and up to 6.7 cm before the gate (docs/loop_closing.md).
+    const bool sequential = mode == RunMode::kSequential;
+    EXPECT_LT(worst_from_turn, sequential ? 0.02 : 0.035) << "worst " << worst_from_turn;
+    EXPECT_LT(worst, sequential ? 0.02 : 0.08) << "worst " << worst;
     // A global BA followed the loop (on its own thread: Finish waited for it).
     const std::vector<GlobalBaStats> gba = system.global_ba_stats();
     ASSERT_EQ(gba.size(), static_cast<size_t>(closed));
