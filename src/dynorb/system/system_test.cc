@@ -112,8 +112,8 @@ TEST(System, ClosesTheLoopAfterAFullTurnAndKeepsTracking) {
     // correction lands while a frame is tracked (Map::Correct waits for it): on a loaded machine
     // (3 processes on 2 cores, 300 logged runs of each parallel variant, session 42) no frame from
     // the full turn on was more than 3.2 cm off. Before the turn a few frames (140-150, tracked
-    // against one keyframe while the busy mapper let no new one be made) ended 3-5.3 cm off in
-    // about 1 run of 100, and up to 6.7 cm before the gate (docs/loop_closing.md).
+    // while keyframes waited in the busy mapper's queue) drifted 3-6.2 cm in about 1 run of 100,
+    // before the gate as after it (docs/loop_closing.md).
     const bool sequential = mode == RunMode::kSequential;
     EXPECT_LT(worst_from_turn, sequential ? 0.02 : 0.035) << "worst " << worst_from_turn;
     EXPECT_LT(worst, sequential ? 0.02 : 0.08) << "worst " << worst;
