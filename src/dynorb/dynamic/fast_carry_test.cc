@@ -13,6 +13,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/dynamic/fast_clip_test_util.h"
 #include "dynorb/dynamic/fast_filter.h"
 #include "dynorb/dynamic/fast_test_util.h"
 #include "dynorb/features/orb_extractor.h"
@@ -33,32 +34,34 @@ cv::Mat BlobTexture(cv::Size size, uint64_t seed) {
   return texture(cv::Rect(cv::Point(), size)).clone();
 }
 
-struct SceneFrame {
-  cv::Mat gray, bgr, depth_m, box_mask;
-  double camera_x_m = 0.0;
-};
-
 class CarryUnderLargeMotion : public ::testing::Test {
  protected:
   // The camera moved so far along x that the wall's image shifted camera_wall_px to the left; the
-  // box's top-left corner at (box_x_px, box_y_px) in the image of a camera at x = 0.
-  static SceneFrame Render(int camera_wall_px, int box_x_px, int box_y_px) {
+  // box's top-left corner at (box_x_px, box_y_px) in the image of a camera at x = 0. The frame's
+  // mask is the box (255).
+  static ClipFrame Render(int camera_wall_px, int box_x_px, int box_y_px) {
     static const cv::Mat wall = BlobTexture(cv::Size(1200, 600), 3);
     static const cv::Mat box = BlobTexture(cv::Size(kBoxPx, kBoxPx), 4);
     const PinholeCamera camera = FastTestCamera();
-    SceneFrame f;
+    ClipFrame f;
     // The wall's image shifts by camera_wall_px; the box's (half as far) by twice that.
-    f.camera_x_m = camera_wall_px * kWallDepthM / camera.fx;
+    f.world_from_cam = Rigid3d(Eigen::Quaterniond::Identity(),
+                               Eigen::Vector3d(camera_wall_px * kWallDepthM / camera.fx, 0.0, 0.0));
     f.gray = wall(cv::Rect(200 + camera_wall_px, 60, camera.width, camera.height)).clone();
     f.depth_m = cv::Mat(f.gray.size(), CV_32F, cv::Scalar(kWallDepthM));
-    f.box_mask = cv::Mat::zeros(f.gray.size(), CV_8U);
+    f.mask = cv::Mat::zeros(f.gray.size(), CV_8U);
     const cv::Rect at(box_x_px - 2 * camera_wall_px, box_y_px, kBoxPx, kBoxPx);
     const cv::Rect visible = at & cv::Rect(cv::Point(), f.gray.size());
     box(visible - at.tl()).copyTo(f.gray(visible));
     f.depth_m(visible).setTo(kBoxDepthM);
-    f.box_mask(visible).setTo(255);
+    f.mask(visible).setTo(255);
     cv::cvtColor(f.gray, f.bgr, cv::COLOR_GRAY2BGR);
     return f;
+  }
+
+  // cam_from_previous_cam of frame i (the camera translates along x only).
+  static Rigid3d Motion(const std::vector<ClipFrame>& frames, size_t i) {
+    return frames[i].world_from_cam.Inverse() * frames[i - 1].world_from_cam;
   }
 
   struct Carried {
@@ -70,42 +73,33 @@ class CarryUnderLargeMotion : public ::testing::Test {
 
   // Frames 0-2 analysed / carried / analysed with the exact motion; frame 3 carried with
   // `frame3_prediction` as the tracker's cam_from_previous_cam.
-  static Carried Run(const std::vector<SceneFrame>& frames, const Rigid3d& frame3_prediction) {
+  static Carried Run(const std::vector<ClipFrame>& frames, const Rigid3d& frame3_prediction) {
     FastOptions options;
     options.analyse_every = 2;
     FastFilter filter(options, FastTestCamera());
     const OrbExtractor extractor;
     Carried result;
     for (size_t i = 0; i < frames.size(); ++i) {
-      const SceneFrame& f = frames[i];
+      const ClipFrame& f = frames[i];
       const KeypointSet set = extractor.Detect(f.gray);
-      FilterInput input;
-      input.frame_id = i;
-      input.bgr = &f.bgr;
-      input.gray = &f.gray;
-      input.depth_m = &f.depth_m;
-      input.keypoints = &set;
-      if (i > 0) {  // the camera translates along x only: cur = prev - (x_cur - x_prev)
-        input.predicted_cam_from_previous_cam =
-            Rigid3d(Eigen::Quaterniond::Identity(),
-                    Eigen::Vector3d(frames[i - 1].camera_x_m - f.camera_x_m, 0.0, 0.0));
-      }
+      FilterInput input = ClipInput(f, set, i);
+      if (i > 0) input.predicted_cam_from_previous_cam = Motion(frames, i);
       if (i == 3) input.predicted_cam_from_previous_cam = frame3_prediction;
       const FilterOutput out = filter.Filter(input);
       if (i == 2) EXPECT_GT(filter.info().num_removed, 20) << "the analysed frame finds the box";
       if (i != 3) continue;
       int removed_on_box = 0;
       for (size_t k = 0; k < set.keypoints.size(); ++k) {
-        const bool on_box = f.box_mask.at<uint8_t>(set.keypoints[k].pt) != 0;
+        const bool on_box = f.mask.at<uint8_t>(KeypointPixel(set.keypoints[k], f.mask.size())) != 0;
         result.box_keypoints += on_box;
         removed_on_box += on_box && !out.keep[k];
         result.removed_off_box += !on_box && !out.keep[k];
       }
       result.recall = static_cast<double>(removed_on_box) / std::max(1, result.box_keypoints);
       if (out.dynamic_mask.empty()) continue;
-      const double on_box = cv::countNonZero(out.dynamic_mask & f.box_mask);
+      const double on_box = cv::countNonZero(out.dynamic_mask & f.mask);
       result.mask_on_box = on_box / std::max(1, cv::countNonZero(out.dynamic_mask));
-      result.box_in_mask = on_box / cv::countNonZero(f.box_mask);
+      result.box_in_mask = on_box / cv::countNonZero(f.mask);
     }
     return result;
   }
@@ -113,10 +107,9 @@ class CarryUnderLargeMotion : public ::testing::Test {
 
 TEST_F(CarryUnderLargeMotion, TheMaskLandsWhereTheCameraMotionPutsTheObject) {
   // Wall shifts 0, 4, 8 px, then 40 px more; the box moves 0, 0, 26 px down, then stands still.
-  const std::vector<SceneFrame> frames = {Render(0, 300, 100), Render(4, 300, 100),
-                                          Render(8, 300, 126), Render(48, 300, 126)};
-  const Rigid3d exact(Eigen::Quaterniond::Identity(),
-                      Eigen::Vector3d(frames[2].camera_x_m - frames[3].camera_x_m, 0.0, 0.0));
+  const std::vector<ClipFrame> frames = {Render(0, 300, 100), Render(4, 300, 100),
+                                         Render(8, 300, 126), Render(48, 300, 126)};
+  const Rigid3d exact = Motion(frames, 3);
   const Carried right = Run(frames, exact);
   const Carried still = Run(frames, Rigid3d());
   const Carried backwards = Run(frames, exact.Inverse());
