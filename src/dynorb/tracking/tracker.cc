@@ -88,8 +88,8 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     }
   } else {
     centre_prior_.reset();
-    // Relocalisation finds a pose in the map as it is now: corrections that landed while the
-    // tracker was lost must not move the next frame's motion model again.
+    // Relocalisation finds a pose in the map as it is now: the tracker takes the current
+    // correction epoch first, so the next frame does not move the relocalised pose again.
     ReanchorAfterCorrection();
     ok = Relocalize(&frame);
     if (ok) {

@@ -8,7 +8,9 @@
 // matching against recent keyframes, PnP RANSAC, pose-only BA). A lost frame never aborts a run.
 //
 // ProcessOne() knows nothing about threads. It reads the Map through snapshots and writes only
-// when it creates a keyframe (plus visibility counters). Not thread-safe itself: one caller.
+// when it creates a keyframe (plus visibility counters); it holds Map::BeginFrame() throughout, so
+// a loop correction or global-BA commit (Map::Correct) lands between frames, never during one.
+// Not thread-safe itself: one caller.
 #pragma once
 
 #include <optional>
