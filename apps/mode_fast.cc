@@ -20,16 +20,14 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("lk_fb_max_px", &o.lk_fb_max_px, "forward-backward check: max return error (px)")
       .Add("lk_fb_candidates_only", &o.lk_fb_candidates_only,
            "forward-backward check only for points a cue flags moving (faster; tracks that fail it "
-           "unseen "
-           "still feed the ego-motion and F, which are robust to them)")
+           "unseen still feed the ego-motion and F, which are robust to them)")
       .Add("lk_max_points", &o.lk_max_points,
            "track at most this many keypoints, spread over the image (0: all)")
       .Add("lk_predict_initial", &o.lk_predict_initial,
            "seed LK with the motion-model + depth prediction")
       .Add("lk_seed_own_motion", &o.lk_seed_own_motion,
            "seed LK with the filter's own last ego-motion when it has one (one frame old; the "
-           "tracker's "
-           "prediction is older when pipelined)")
+           "tracker's prediction is older when pipelined)")
       .Add(
           "lk_fb_levels", &o.lk_fb_levels,
           "pyramid levels above the base image of the forward-backward check (capped at lk_levels)")
@@ -83,8 +81,8 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
            "hypothesis is dropped (it would refine to the same pose)")
       .Add("ego_rigidity_ratio", &o.ego_rigidity_ratio,
            "ego-motion: a prediction also wins when every hypothesis covering more of the image "
-           "fits this "
-           "many times more loosely (a walking person fits a rigid motion loosely; 0: off)")
+           "fits this many times more loosely (a walking person fits a rigid motion loosely; 0: "
+           "off)")
       .Add("residual_px", &o.residual_px,
            "warp residual above this (+ residual_rel * flow): moving")
       .Add("residual_rel", &o.residual_rel, "fraction of the flow length added to residual_px")

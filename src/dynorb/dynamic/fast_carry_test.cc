@@ -86,7 +86,9 @@ class CarryUnderLargeMotion : public ::testing::Test {
       if (i > 0) input.predicted_cam_from_previous_cam = Motion(frames, i);
       if (i == 3) input.predicted_cam_from_previous_cam = frame3_prediction;
       const FilterOutput out = filter.Filter(input);
-      if (i == 2) EXPECT_GT(filter.info().num_removed, 20) << "the analysed frame finds the box";
+      if (i == 2) {
+        EXPECT_GT(filter.info().num_removed, 20) << "the analysed frame finds the box";
+      }
       if (i != 3) continue;
       int removed_on_box = 0;
       for (size_t k = 0; k < set.keypoints.size(); ++k) {

@@ -13,6 +13,7 @@
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
 #include "dynorb/dynamic/keypoint_filter.h"
+#include "dynorb/dynamic/pixel.h"
 #include "dynorb/synth/synthesizer.h"
 
 namespace dynorb {
@@ -77,8 +78,7 @@ inline FilterInput ClipInput(const ClipFrame& f, const KeypointSet& set, size_t 
 
 // The pixel of a keypoint (rounded, clamped to the image).
 inline cv::Point KeypointPixel(const cv::KeyPoint& kp, const cv::Size& size) {
-  return {std::clamp(static_cast<int>(std::lround(kp.pt.x)), 0, size.width - 1),
-          std::clamp(static_cast<int>(std::lround(kp.pt.y)), 0, size.height - 1)};
+  return NearestPixel(kp.pt, size);
 }
 
 }  // namespace dynorb

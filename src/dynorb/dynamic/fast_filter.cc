@@ -11,6 +11,7 @@
 #include "dynorb/dynamic/fast_cues.h"
 #include "dynorb/dynamic/fast_filter_frame.h"
 #include "dynorb/dynamic/motion_ego.h"
+#include "dynorb/dynamic/pixel.h"
 #include "dynorb/geometry/two_view.h"
 
 namespace dynorb {
@@ -170,9 +171,7 @@ FilterOutput FastFilter::CarryForward(const FilterInput& input) {
   for (size_t i = 0; i < n; ++i) {
     points[i] = keypoints[i].pt;
     if (mask.empty()) continue;
-    const int x = std::clamp(static_cast<int>(std::lround(points[i].x)), 0, mask.cols - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(points[i].y)), 0, mask.rows - 1);
-    if (!mask.at<uint8_t>(y, x)) continue;
+    if (!mask.at<uint8_t>(NearestPixel(points[i], mask.size()))) continue;
     out.keep[i] = false;
     cue_bits_[i] = kCueSuspect;
     ++info_.num_removed;

@@ -15,6 +15,7 @@
 #include "dynorb/dynamic/fast_cues.h"
 #include "dynorb/dynamic/fast_filter_frame.h"
 #include "dynorb/dynamic/fast_region.h"
+#include "dynorb/dynamic/pixel.h"
 #include "dynorb/features/orb_matcher.h"
 
 namespace dynorb {
@@ -172,8 +173,8 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
     }
   }
   for (size_t i = 0; i < n; ++i) {
-    const int x = std::clamp(static_cast<int>(std::lround(p2[i].x)), 0, depth.cols - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(p2[i].y)), 0, depth.rows - 1);
+    const cv::Point px = NearestPixel(p2[i], depth.size());
+    const int x = px.x, y = px.y;
     if (!w->final_mask.empty()) {
       const int octave = w->keypoints[i].octave;
       if (w->final_mask.at<uint8_t>(y, x) ||

@@ -11,6 +11,7 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "dynorb/dynamic/fast_cues.h"
+#include "dynorb/dynamic/pixel.h"
 #include "dynorb/optimization/pose_optimizer.h"
 
 namespace dynorb {
@@ -181,9 +182,8 @@ std::vector<uint8_t> EgoMotionVoters(const std::vector<uint8_t>& valid,
   for (size_t i = 0; i < voters.size(); ++i) {
     if (!voters[i]) continue;
     ++tracked;
-    const int x = std::clamp(static_cast<int>(std::lround(p1[i].x)), 0, previous_mask.cols - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(p1[i].y)), 0, previous_mask.rows - 1);
-    if (previous_mask.at<uint8_t>(y, x)) voters[i] = 0, ++skipped;
+    if (previous_mask.at<uint8_t>(NearestPixel(p1[i], previous_mask.size())))
+      voters[i] = 0, ++skipped;
   }
   return skipped > max_fraction * tracked ? valid : voters;
 }
