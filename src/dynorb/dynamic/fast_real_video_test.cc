@@ -99,7 +99,7 @@ TEST(FastOnRealVideo, TheResidualCueSeparatesWalkersFromTheStaticScene) {
   }
   const VideoCounts c = RunOnVideo(60);
   std::printf(
-      "vtest.avi, 59 judged frames: tracked in person boxes %ld (residual cue %.3f), outside %ld "
+      "vtest.avi, frames 1-59: tracked in person boxes %ld (residual cue %.3f), outside %ld "
       "(%.4f); removed %ld of %ld in boxes (%.3f), %ld outside (precision %.3f)\n",
       c.tracked_in_box, c.FlaggedInBox(), c.tracked_outside, c.FlaggedOutside(), c.removed_in_box,
       c.keypoints_in_box, c.RemovedInBox(), c.removed_outside, c.RemovedPrecision());
