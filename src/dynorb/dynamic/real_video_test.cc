@@ -31,6 +31,41 @@ namespace fs = std::filesystem;
 const std::string kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
 const std::string kModels = std::string(DYNORB_SHARED_DIR) + "/models";
 
+// The video's frames as a filter's input: the image, its grey version, its ORB keypoints and one
+// depth for every pixel (the video has none; 0 = no depth).
+class VideoFrames {
+ public:
+  explicit VideoFrames(float depth_m) : video_(kVideo), depth_value_(depth_m) {
+    EXPECT_TRUE(video_.isOpened()) << kVideo;
+  }
+  // Reads the next frame; false at the end of the video.
+  bool Next() {
+    if (!video_.read(bgr_)) return false;
+    cv::cvtColor(bgr_, gray_, cv::COLOR_BGR2GRAY);
+    depth_m_ = cv::Mat(bgr_.size(), CV_32F, cv::Scalar(depth_value_));
+    keypoints_ = extractor_.Detect(gray_);
+    input_ = FilterInput();
+    input_.frame_id = frame_id_++;
+    input_.bgr = &bgr_;
+    input_.gray = &gray_;
+    input_.depth_m = &depth_m_;
+    input_.keypoints = &keypoints_;
+    return true;
+  }
+  FilterInput& input() { return input_; }
+  const cv::Mat& bgr() const { return bgr_; }
+  const std::vector<cv::KeyPoint>& keypoints() const { return keypoints_.keypoints; }
+
+ private:
+  cv::VideoCapture video_;
+  float depth_value_;
+  const OrbExtractor extractor_;
+  cv::Mat bgr_, gray_, depth_m_;
+  KeypointSet keypoints_;
+  FilterInput input_;
+  FrameId frame_id_ = 0;
+};
+
 // Counts over the judged frames; "box" = inside a person box of the detector (dilated a little:
 // its boxes are tight and a walker's outline corners lie just outside).
 struct VideoCounts {
@@ -46,8 +81,6 @@ struct VideoCounts {
 };
 
 VideoCounts RunOnVideo(int frames) {
-  cv::VideoCapture video(kVideo);
-  EXPECT_TRUE(video.isOpened()) << kVideo;
   DetectorOptions detector_options;
   detector_options.model = "yolox_nano";  // the best boxes of the shared models
   detector_options.models_dir = kModels;
@@ -61,30 +94,21 @@ VideoCounts RunOnVideo(int frames) {
   camera.cx = 384;
   camera.cy = 288;
   FastFilter filter(FastOptions(), camera);
-  const OrbExtractor extractor;
   VideoCounts counts;
-  cv::Mat bgr, gray;
-  for (int i = 0; i < frames && video.read(bgr); ++i) {
-    EXPECT_EQ(bgr.size(), cv::Size(camera.width, camera.height));
-    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-    const cv::Mat depth_m(bgr.size(), CV_32F, cv::Scalar(4.f));
-    const KeypointSet set = extractor.Detect(gray);
-    FilterInput input;
-    input.frame_id = i;
-    input.bgr = &bgr;
-    input.gray = &gray;
-    input.depth_m = &depth_m;
-    input.keypoints = &set;
-    if (i > 0) input.predicted_cam_from_previous_cam = Rigid3d::Identity();  // a fixed camera
-    const FilterOutput out = filter.Filter(input);
+  VideoFrames video(4.f);
+  for (int i = 0; i < frames && video.Next(); ++i) {
+    EXPECT_EQ(video.bgr().size(), cv::Size(camera.width, camera.height));
+    if (i > 0) video.input().predicted_cam_from_previous_cam = Rigid3d::Identity();  // fixed camera
+    const FilterOutput out = filter.Filter(video.input());
     if (i == 0) continue;
-    cv::Mat people = cv::Mat::zeros(bgr.size(), CV_8U);
-    for (const Detection& d : detector.Detect(bgr)) {
+    cv::Mat people = cv::Mat::zeros(video.bgr().size(), CV_8U);
+    for (const Detection& d : detector.Detect(video.bgr())) {
       const cv::Rect box(d.box);
       cv::rectangle(people, box - cv::Point(3, 3) + cv::Size(6, 6), 255, cv::FILLED);
     }
-    for (int k = 0; k < set.size(); ++k) {
-      const bool in_box = people.at<uint8_t>(NearestPixel(set.keypoints[k].pt, people.size())) != 0;
+    for (size_t k = 0; k < video.keypoints().size(); ++k) {
+      const bool in_box =
+          people.at<uint8_t>(NearestPixel(video.keypoints()[k].pt, people.size())) != 0;
       const uint16_t bits = filter.cue_bits()[k];
       counts.keypoints_in_box += in_box;
       if (bits & kCueTracked) {
@@ -131,35 +155,23 @@ float BestIou(const cv::Rect2f& box, const std::vector<DynamicObject>& objects) 
 }
 
 CarryScores CarryOnVideo(int frames) {
-  cv::VideoCapture video(kVideo);
-  EXPECT_TRUE(video.isOpened()) << kVideo;
   SemanticOptions options;  // the defaults: yolo_fastest_1.1 on every 4th frame, carried between
   options.detector.models_dir = kModels;
   options.refine.enabled = false;  // no depth in the video: the mask is the box
   DnnDetector reference(SemanticDetectorOptions(options));
   SemanticFilter filter(std::make_unique<DetectorMaskProvider>(options), options);
-  const OrbExtractor extractor;
   CarryScores scores;
   std::vector<DynamicObject> last_detected;
-  cv::Mat bgr, gray;
-  for (int i = 0; i < frames && video.read(bgr); ++i) {
-    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-    const cv::Mat depth_m = cv::Mat::zeros(bgr.size(), CV_32F);
-    const KeypointSet set = extractor.Detect(gray);
-    FilterInput input;
-    input.frame_id = i;
-    input.bgr = &bgr;
-    input.gray = &gray;
-    input.depth_m = &depth_m;
-    input.keypoints = &set;
-    filter.Filter(input);
+  VideoFrames video(0.f);
+  for (int i = 0; i < frames && video.Next(); ++i) {
+    filter.Filter(video.input());
     const int age = i % options.detect_every;
     EXPECT_EQ(filter.last_was_detection(), age == 0);
     if (age == 0) {
       last_detected = filter.current().objects;
       continue;
     }
-    for (const Detection& d : reference.Detect(bgr)) {
+    for (const Detection& d : reference.Detect(video.bgr())) {
       if (d.box.area() < 400.f) continue;  // the farthest people (< 20 x 20 px): boxes jitter most
       scores.carried[age] += BestIou(d.box, filter.current().objects);
       scores.stale[age] += BestIou(d.box, last_detected);
