@@ -108,6 +108,7 @@ KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, c
   const size_t n = keypoints.size();
   truth.ignored.assign(n, 0);
   truth.on_object.assign(n, 0);
+  truth.object_id.assign(n, 0);
   truth.support.assign(n, 0);
   truth.near.assign(n, 0);
   constexpr int r = KeypointLabelStats::kBoundaryPx;
@@ -122,7 +123,8 @@ KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, c
       truth.ignored[i] = 1;
       continue;
     }
-    truth.on_object[i] = mask.at<uint8_t>(y, x) != 0;
+    truth.object_id[i] = mask.at<uint8_t>(y, x);
+    truth.on_object[i] = truth.object_id[i] != 0;
     truth.support[i] = truth.on_object[i] || CircleTouches(mask, ignore, keypoints[i], level_scale_factor);
     // An object pixel under the elliptic neighbourhood (what cv::dilate with this element sees);
     // the centre is part of it.
@@ -157,6 +159,7 @@ void KeypointLabelStats::Add(const KeypointTruth& truth, const std::vector<bool>
     const bool on = truth.on_object[i] != 0;
     const bool predicted = !keep.empty() && !keep[i];
     if (predicted && on) ++tp;
+    if (on) ++(predicted ? object_tp_ : object_fn_)[truth.object_id[i]];
     if (predicted && !on) {
       ++fp;
       fp_near_ += truth.near[i];
@@ -178,32 +181,45 @@ void KeypointLabelStats::Add(const KeypointTruth& truth, const std::vector<bool>
 
 nlohmann::json KeypointLabelStats::ToJson() const {
   auto ratio = [](long long a, long long b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
-  return {{"frames_with_masks", frames_},
-          {"true_positive", tp_},
-          {"false_positive", fp_},
-          {"false_negative", fn_},
-          {"true_negative", tn_},
-          {"ignored", ignored_},
-          {"false_positive_within_3px", fp_near_},
-          {"precision_within_3px", ratio(tp_ + fp_near_, tp_ + fp_)},
-          {"precision", ratio(tp_, tp_ + fp_)},
-          {"recall", ratio(tp_, tp_ + fn_)},
-          {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},
-          {"support",
-           {{"true_positive", support_tp_},
-            {"false_positive", support_fp_},
-            {"false_negative", support_fn_},
-            {"precision", ratio(support_tp_, support_tp_ + support_fp_)},
-            {"recall", ratio(support_tp_, support_tp_ + support_fn_)},
-            {"definition",
-             "truth = keypoint on an object pixel or its FAST circle at its pyramid level (radius 3 * "
-             "scale_factor^octave px) touches an object: the corner is the object's outline and moves with it"}}},
-          {"mean_frame_precision", Summarize(frame_precision_).mean},
-          {"mean_frame_recall", Summarize(frame_recall_).mean},
-          {"definition",
-           "positive = keypoint removed as dynamic; truth = keypoint on a pixel of a moving-object mask (id != 0); "
-           "totals over all frames with masks; precision_within_3px also counts a removed keypoint within 3 px of "
-           "an object (its FAST circle touches the object's outline) as correct"}};
+  nlohmann::json by_object = nlohmann::json::object();
+  for (size_t id = 1; id < object_tp_.size(); ++id) {
+    if (object_tp_[id] + object_fn_[id] == 0) continue;
+    by_object[std::to_string(id)] = {
+        {"true_positive", object_tp_[id]},
+        {"false_negative", object_fn_[id]},
+        {"recall", ratio(object_tp_[id], object_tp_[id] + object_fn_[id])}};
+  }
+  return {
+      {"frames_with_masks", frames_},
+      {"by_object", by_object},
+      {"true_positive", tp_},
+      {"false_positive", fp_},
+      {"false_negative", fn_},
+      {"true_negative", tn_},
+      {"ignored", ignored_},
+      {"false_positive_within_3px", fp_near_},
+      {"precision_within_3px", ratio(tp_ + fp_near_, tp_ + fp_)},
+      {"precision", ratio(tp_, tp_ + fp_)},
+      {"recall", ratio(tp_, tp_ + fn_)},
+      {"keypoints_on_moving_objects_fraction", ratio(tp_ + fn_, tp_ + fp_ + fn_ + tn_)},
+      {"support",
+       {{"true_positive", support_tp_},
+        {"false_positive", support_fp_},
+        {"false_negative", support_fn_},
+        {"precision", ratio(support_tp_, support_tp_ + support_fp_)},
+        {"recall", ratio(support_tp_, support_tp_ + support_fn_)},
+        {"definition",
+         "truth = keypoint on an object pixel or its FAST circle at its pyramid level (radius 3 * "
+         "scale_factor^octave px) touches an object: the corner is the object's outline and moves "
+         "with it"}}},
+      {"mean_frame_precision", Summarize(frame_precision_).mean},
+      {"mean_frame_recall", Summarize(frame_recall_).mean},
+      {"definition",
+       "positive = keypoint removed as dynamic; truth = keypoint on a pixel of a moving-object "
+       "mask (id != 0); totals over all frames with masks; precision_within_3px also counts a "
+       "removed keypoint within 3 px of an object (its FAST circle touches the object's outline) "
+       "as correct; by_object: the keypoints on each object id of the mask, removed "
+       "(true_positive) and kept (false_negative)"}};
 }
 
 cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,

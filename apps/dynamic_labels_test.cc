@@ -45,6 +45,40 @@ TEST(KeypointLabelStats, PixelTruthAndScaleAwareSupportTruth) {
   EXPECT_DOUBLE_EQ(s["recall"].get<double>(), 0.6);
 }
 
+// Recall per object id: a small mover's misses are not hidden in a large one's totals; ignored
+// (still) objects and keypoints off every object are not counted there.
+TEST(KeypointLabelStats, RecallPerObjectId) {
+  cv::Mat mask = cv::Mat::zeros(100, 100, CV_8U);
+  mask(cv::Rect(0, 0, 50, 100)).setTo(1);   // a person, id 1
+  mask(cv::Rect(60, 60, 10, 10)).setTo(4);  // a small box, id 4
+  mask(cv::Rect(80, 10, 10, 10)).setTo(5);  // an object standing still, id 5
+  cv::Mat still = cv::Mat::zeros(100, 100, CV_8U);
+  still.setTo(255, mask == 5);
+  const std::vector<cv::KeyPoint> kps = {At(10, 10, 0), At(20, 20, 0), At(30, 30, 0),
+                                         At(40, 40, 0), At(62, 62, 0), At(67, 67, 0),
+                                         At(85, 15, 0), At(75, 90, 0)};
+  // The person's 4 keypoints and one of the box's 2 removed, the still object's and a background
+  // keypoint removed too.
+  const std::vector<bool> keep = {false, false, false, false, false, true, false, false};
+  KeypointLabelStats stats(1.2);
+  stats.Add(kps, keep, mask, still);
+  stats.Add(kps, keep, mask, still);  // a second frame: the counts add up
+  const nlohmann::json j = stats.ToJson();
+  const nlohmann::json& by = j["by_object"];
+  ASSERT_EQ(by.size(), 2u);
+  EXPECT_EQ(by["1"]["true_positive"], 8);
+  EXPECT_EQ(by["1"]["false_negative"], 0);
+  EXPECT_DOUBLE_EQ(by["1"]["recall"].get<double>(), 1.0);
+  EXPECT_EQ(by["4"]["true_positive"], 2);
+  EXPECT_EQ(by["4"]["false_negative"], 2);
+  EXPECT_DOUBLE_EQ(by["4"]["recall"].get<double>(), 0.5);
+  EXPECT_FALSE(by.contains("5"));
+  EXPECT_EQ(j["true_positive"], 10);
+  EXPECT_EQ(j["false_negative"], 2);
+  EXPECT_EQ(j["ignored"], 2);
+  EXPECT_TRUE(KeypointLabelStats(1.2).ToJson()["by_object"].empty());
+}
+
 // The per-frame truth computed once equals the definitions it replaces: "within 3 px" = the object
 // mask dilated with the 7x7 ellipse (still objects removed first), on random blobs and keypoints.
 TEST(KeypointTruth, NearIsTheEllipseDilationOfTheCountedObjects) {
