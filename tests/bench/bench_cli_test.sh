@@ -199,6 +199,12 @@ line = "moving keypoints  precision %.3f, recall %.3f (centre on the mask); outl
     now["precision"], now["recall"], now["support"]["precision"], now["support"]["recall"])
 assert now["true_positive"] + now["false_positive"] > 0, now
 assert line in open(sys.argv[2]).read().splitlines(), (line, open(sys.argv[2]).read())
+# Per object id: the keypoints on each moving object, removed and kept, add up to the totals.
+by = now["by_object"]
+assert by and all(k.isdigit() and 1 <= int(k) <= 255 for k in by), by
+assert sum(o["true_positive"] for o in by.values()) == now["true_positive"], by
+assert sum(o["false_negative"] for o in by.values()) == now["false_negative"], by
+assert all(abs(o["recall"] - o["true_positive"] / (o["true_positive"] + o["false_negative"])) < 1e-12 for o in by.values())
 EOF
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --out "$DIR/plainrun" --quiet >"$DIR/plainrun.txt" 2>&1 ||
   fail "plain run on the cached sequence"
@@ -216,6 +222,8 @@ now = json.load(open(sys.argv[1]))["dynamic_keypoints"]["moving_now"]
 rows = {tuple(l.split()[:2]): l.split() for l in open(sys.argv[2]).read().splitlines()[2:]}
 assert rows[("fast", "dynamic")][-3:] == ["%.2f" % now["recall"], "%.2f" % now["precision"], "%.2f" % now["support"]["precision"]], rows
 assert rows[("plain", "dynamic")][-3:] == ["-", "-", "-"] and rows[("plain", "twin")][-3:] == ["-", "-", "-"], rows
+# Speed is compared with plain on the same sequence: both plain rows are 1.00x.
+assert "1.00x" in rows[("plain", "twin")] and "1.00x" in rows[("plain", "dynamic")], rows
 EOF
 # Overlays of every 5th frame only (frames 0, 5, 10 of 14); the filter draws nothing on the others.
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov" --quiet \
