@@ -408,9 +408,8 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
     BenchTable objects{"object_recall",
                        "Dynamic keypoints: recall per moving object [%]",
                        "Keypoints on each object of the masks (by id; synthetic sequences: 1-3 "
-                       "people, 4 the pushed "
-                       "box, 5 the desk item) at frames where it moves, the share removed. '-': "
-                       "not in that sequence.",
+                       "people, 4 the pushed box, 5 the desk item) at frames where it moves, the "
+                       "share removed. '-': not in that sequence.",
                        {"sequence", "mode"},
                        {}};
     for (int id : ids) objects.header.push_back("object " + std::to_string(id));

@@ -116,6 +116,27 @@ for needle in "| syn_walking_rpy | 1.75 [1.50-2.00] | 0.55 [0.50-0.60] |" \
   grep -qF -- "$needle" "$DIR/pooled/report.md" || fail "pooled report.md lacks '$needle'"
 done
 grep -qF "all sequences and seeds" "$MD" && fail "one dynamic sequence must not get a pooled row"
+grep -qF "recall per moving object" "$MD" && fail "a report without by_object stats has a per-object table"
+# Recall per moving object: the fast runs of the fixture with per-object counts (seed 1: person 90 %,
+# box 50 %; seed 2: person 96 %, no box); plain rows are left out.
+mkdir -p "$DIR/objects"
+/usr/bin/python3 - "$SRC/tests/bench/data/results.json" "$DIR/objects/results.json" <<'EOF' || fail "per-object fixture"
+import json, sys
+r = json.load(open(sys.argv[1]))
+recalls = {1: {"1": 0.90, "4": 0.50}, 2: {"1": 0.96}}
+for run in r["runs"]:
+    if run["sequence"] == "syn_walking_xyz" and "stats" in run:
+        now = run["stats"]["dynamic_keypoints"].setdefault("moving_now", {})
+        now["by_object"] = {k: {"recall": v} for k, v in recalls[run["seed"]].items()} if run["mode"] == "fast" else {}
+json.dump(r, open(sys.argv[2], "w"))
+EOF
+"$DYNORB" bench --report "$DIR/objects" >/dev/null || fail "--report objects"
+for needle in "## Dynamic keypoints: recall per moving object [%]" "| sequence | mode | object 1 | object 4 |" \
+  "| syn_walking_xyz | fast | 93.0 [90.0-96.0] | 50.0 |"; do
+  grep -qF -- "$needle" "$DIR/objects/report.md" || fail "objects report.md lacks '$needle'"
+done
+sed -n '/recall per moving object/,/^## Figures/p' "$DIR/objects/report.md" | grep -qF "| syn_walking_xyz | plain |" &&
+  fail "the per-object table has a plain row"
 [[ $(grep -c '^- warning: syn_walking_rpy / .* seed [0-9]*: the depth images read as 1.25e+04 m away$' \
   "$DIR/pooled/report.md") == 1 ]] || fail "pooled report.md: the run's warning is not listed once"
 grep -q '^- warning:' "$MD" && fail "report.md lists a warning no run had"
