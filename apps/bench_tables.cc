@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "dynorb/core/error.h"
 
@@ -395,14 +396,15 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
     return Path({"dynamic_keypoints", "moving_now", "by_object", std::to_string(id), "recall"},
                 100.0);
   };
-  std::vector<int> ids;
-  for (int id = 1; id < 256; ++id) {
-    bool present = false;
-    for (const std::string& s : names.sequences) {
-      for (const std::string& m : names.modes)
-        present = present || !runs.List(s, m, object_recall(id)).empty();
+  std::set<int> ids;
+  for (const Json& run : results["runs"]) {
+    const Json* by_object = &run;
+    for (const char* key : {"stats", "dynamic_keypoints", "moving_now", "by_object"}) {
+      by_object = by_object->is_object() && by_object->contains(key) ? &(*by_object)[key] : nullptr;
+      if (by_object == nullptr) break;
     }
-    if (present) ids.push_back(id);
+    if (by_object == nullptr || run.value("status", "") != "ok") continue;
+    for (const auto& [id, counts] : by_object->items()) ids.insert(std::stoi(id));
   }
   if (!ids.empty()) {
     BenchTable objects{"object_recall",

@@ -8,6 +8,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/core/stats.h"
+#include "dynorb/dynamic/pixel.h"
 #include "dynorb/features/fast_circle.h"
 #include "dynorb/io/text_lines.h"
 
@@ -91,9 +92,8 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
   KeypointsOnObjects count;
   if (mask.empty()) return count;
   for (const cv::KeyPoint& kp : keypoints) {
-    const int x = std::clamp(static_cast<int>(std::lround(kp.pt.x)), 0, mask.cols - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(kp.pt.y)), 0, mask.rows - 1);
-    const bool on = mask.at<uint8_t>(y, x) != 0 && (ignore.empty() || ignore.at<uint8_t>(y, x) == 0);
+    const cv::Point px = NearestPixel(kp.pt, mask.size());
+    const bool on = mask.at<uint8_t>(px) != 0 && (ignore.empty() || ignore.at<uint8_t>(px) == 0);
     count.pixel += on ? 1 : 0;
     count.support += on || CircleTouches(mask, ignore, kp, level_scale_factor) ? 1 : 0;
   }
@@ -117,8 +117,8 @@ KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, c
     return mask.at<uint8_t>(y, x) != 0 && (ignore.empty() || ignore.at<uint8_t>(y, x) == 0);
   };
   for (size_t i = 0; i < n; ++i) {
-    const int x = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.x)), 0, mask.cols - 1);
-    const int y = std::clamp(static_cast<int>(std::lround(keypoints[i].pt.y)), 0, mask.rows - 1);
+    const cv::Point px = NearestPixel(keypoints[i].pt, mask.size());
+    const int x = px.x, y = px.y;
     if (!ignore.empty() && ignore.at<uint8_t>(y, x) != 0) {
       truth.ignored[i] = 1;
       continue;
