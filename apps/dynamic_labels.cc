@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -98,6 +99,24 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
     count.support += on || CircleTouches(mask, ignore, kp, level_scale_factor) ? 1 : 0;
   }
   return count;
+}
+
+ErasedLandmarkTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
+                                            const MaskGroundTruth& masks) {
+  ErasedLandmarkTruth truth;
+  std::map<double, cv::Mat> by_stamp;  // Several landmarks often come from one keyframe.
+  for (const ErasedLandmark& e : erased) {
+    if (!e.has_origin) continue;
+    auto it = by_stamp.find(e.origin_timestamp_s);
+    if (it == by_stamp.end())
+      it = by_stamp.emplace(e.origin_timestamp_s, masks.MaskAt(e.origin_timestamp_s)).first;
+    const cv::Mat& mask = it->second;
+    if (mask.empty()) continue;
+    ++truth.with_origin;
+    truth.made_on_objects +=
+        mask.at<uint8_t>(NearestPixel(e.origin_keypoint.pt, mask.size())) != 0 ? 1 : 0;
+  }
+  return truth;
 }
 
 KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,

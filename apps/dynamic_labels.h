@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "dynorb/io/association.h"
+#include "dynorb/tracking/dynamic_votes.h"
 
 namespace dynorb {
 
@@ -91,6 +92,15 @@ struct KeypointsOnObjects {
 };
 KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
                                   const cv::Mat& ignore, double level_scale_factor);
+
+// Of the landmarks the tracker erased as dynamic, those whose origin is known (ErasedLandmark) and,
+// of them, those whose keypoint at the origin lay (centre pixel) on an object of the masks.
+struct ErasedLandmarkTruth {
+  long long with_origin = 0;
+  long long made_on_objects = 0;
+};
+ErasedLandmarkTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
+                                            const MaskGroundTruth& masks);
 
 // Draws kept keypoints green and removed ones red on `base` (the filter's overlay, or the image).
 cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,

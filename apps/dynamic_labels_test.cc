@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <random>
+
+#include <opencv2/imgcodecs.hpp>
 
 #include <opencv2/imgproc.hpp>
 
@@ -145,6 +149,32 @@ TEST(KeypointLabelStats, NoKeepVectorMeansNothingRemoved) {
   EXPECT_EQ(j["false_negative"], 1);
   EXPECT_EQ(j["support"]["false_negative"], 2);
   EXPECT_EQ(j["support"]["recall"], 0.0);
+}
+
+// Erased landmarks judged by the keypoint where they were made: two masks (an object at the first
+// stamp, none at the second), landmarks from both stamps and one without a known origin.
+TEST(ClassifyErasedLandmarks, ByTheMaskAtTheirOrigin) {
+  const std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) / "erased_landmarks";
+  std::filesystem::create_directories(dir);
+  cv::imwrite((dir / "a.png").string(), SquareMask() * 3);
+  cv::imwrite((dir / "b.png").string(), cv::Mat::zeros(100, 100, CV_8U));
+  std::ofstream(dir / "masks.txt") << "1.0 a.png\n2.0 b.png\n";
+  const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(dir.string());
+  ASSERT_TRUE(masks.has_value());
+  auto erased = [](double stamp, float x, float y, bool known) {
+    ErasedLandmark e;
+    e.has_origin = known;
+    e.origin_timestamp_s = stamp;
+    e.origin_keypoint = At(x, y, 0);
+    return e;
+  };
+  const ErasedLandmarkTruth truth = ClassifyErasedLandmarks(
+      {erased(1.0, 50, 50, true), erased(1.0, 10, 10, true), erased(2.0, 50, 50, true),
+       erased(1.0, 45, 45, false), erased(1.0, 59.4f, 40, true)},
+      *masks);
+  EXPECT_EQ(truth.with_origin, 4);
+  EXPECT_EQ(truth.made_on_objects, 2);  // (50, 50) and (59.4, 40) at stamp 1.0
 }
 
 }  // namespace

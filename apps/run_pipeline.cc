@@ -149,6 +149,15 @@ void BindSlamSections(TrackerOptions* t, LocalMapperOptions* m, SystemOptions* s
            "(m; 0: off)")
       .Add("motion_prior_velocity_gain", &t->motion_prior_velocity_gain,
            "gain (0..1] of the exponential average of the camera centre's velocity")
+      .Add("dynamic_votes_to_erase", &t->dynamic_votes_to_erase,
+           "a landmark observed moving this many times (projecting next to a keypoint the filter "
+           "saw move, at that keypoint's depth) with no static inlier match in between is erased "
+           "(0: never)")
+      .Add("dynamic_vote_radius_px", &t->dynamic_votes.radius_px,
+           "... next to: within this many pixels of the landmark's projection")
+      .Add("dynamic_vote_band_m", &t->dynamic_votes.band_m,
+           "... at its depth: within band_m + band_rel * z^2 of the landmark's depth (m)")
+      .Add("dynamic_vote_band_rel", &t->dynamic_votes.band_rel, "... (1/m)")
       .OnLoaded([t] { t->Validate(); });
   schema->Section("mapping", "Local mapper (docs/slam_core.md)")
       .Add("local_bundle_adjustment", &m->local_bundle_adjustment, "run local BA")
@@ -473,6 +482,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
         {"definition",
          "landmarks the tracker created from a keyframe's depth whose keypoint lies on an object moving at that "
          "frame (support: or touches one with its FAST circle)"}};
+    std::vector<ErasedLandmark> erased_landmarks;
+    for (const FrameRecord& r : system.records())
+      erased_landmarks.insert(erased_landmarks.end(), r.erased_landmarks.begin(),
+                              r.erased_landmarks.end());
+    const ErasedLandmarkTruth erased = ClassifyErasedLandmarks(erased_landmarks, *masks);
+    stats["landmarks_erased_as_dynamic"]["made_on_dynamic_objects"] = erased.made_on_objects;
+    stats["landmarks_erased_as_dynamic"]["origin_known"] = erased.with_origin;
+    stats["landmarks_erased_as_dynamic"]["made_on_definition"] =
+        "of the erased landmarks whose oldest observing keyframe was still in the map "
+        "(origin_known), those "
+        "whose keypoint there lay on a dynamic object of the ground-truth masks (moving at that "
+        "frame or not)";
     for (const auto& [cue, cue_labels] : cue_stats) {
       const nlohmann::json all = cue_labels.ToJson();
       stats["dynamic_keypoints"]["by_cue"][cue] = {{"flagged", all["true_positive"].get<long long>() +

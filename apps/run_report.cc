@@ -66,6 +66,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
                              const std::optional<EvalResult>& evaluation) {
   const std::vector<FrameRecord>& records = system.records();
   int tracked = 0, lost_episodes = 0, relocalizations = 0, keyframes_inserted = 0;
+  long long dynamic_votes = 0, erased_as_dynamic = 0;
   bool was_lost = false;
   std::map<std::string, std::vector<double>> filter_stages;  // Name order: deterministic JSON.
   std::vector<double> refill, refilled;
@@ -77,6 +78,8 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     was_lost = lost;
     relocalizations += r.relocalized ? 1 : 0;
     keyframes_inserted += r.new_keyframe ? 1 : 0;
+    dynamic_votes += r.dynamic_votes;
+    erased_as_dynamic += r.erased_as_dynamic;
     detect.push_back(r.timing.detect_ms);
     filter.push_back(r.timing.filter_ms);
     refill.push_back(r.timing.refill_ms);
@@ -121,6 +124,14 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["keyframes_inserted"] = keyframes_inserted;
   j["keyframes"] = system.NumKeyframes();
   j["landmarks"] = system.NumLandmarks();
+  j["landmarks_erased_as_dynamic"] = {{"erased", erased_as_dynamic},
+                                      {"votes", dynamic_votes},
+                                      {"definition",
+                                       "landmarks of the local map observed moving (projecting "
+                                       "next to a keypoint the filter saw move, at that "
+                                       "keypoint's depth; votes: one per landmark and frame), "
+                                       "erased after tracking.dynamic_votes_to_erase votes "
+                                       "with no static inlier match in between"}};
   // Loop closing: every keyframe where a loop was detected, whether the check confirmed it.
   nlohmann::json loops = nlohmann::json::array();
   int loops_closed = 0;

@@ -296,6 +296,19 @@ for s in (streamed, preloaded):
 EOF
 cmp -s <(cut -d, -f1-11,20- "$DIR/fastrun/frames.csv") <(cut -d, -f1-11,20- "$DIR/fastpre/frames.csv") ||
   fail "--preload changed frames.csv beyond its timing columns"
+# Landmark dynamic votes (tracking.dynamic_votes_to_erase, off by default): with one vote a FAST
+# run erases landmarks seen next to moving keypoints and judges each by where it was made.
+cp "$OUT/cache/walking_xyz_s3_f14/camera.yaml" "$DIR/votes.yaml"
+printf 'tracking:\n  dynamic_votes_to_erase: 1\n' >>"$DIR/votes.yaml"
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config "$DIR/votes.yaml" --out "$DIR/fastvotes" \
+  --quiet >/dev/null 2>&1 || fail "fast run with dynamic votes"
+/usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/fastvotes/stats.json" <<'EOF' || fail "landmark dynamic votes"
+import json, sys
+default, votes = (json.load(open(f))["landmarks_erased_as_dynamic"] for f in sys.argv[1:3])
+assert default["erased"] == default["votes"] == default["made_on_dynamic_objects"] == 0, default
+assert votes["votes"] >= votes["erased"] > 0, votes
+assert votes["erased"] >= votes["origin_known"] >= votes["made_on_dynamic_objects"] >= 0, votes
+EOF
 # A frame whose size disagrees with the config: exit 2, one error line naming the image, no
 # results; with --preload the first frame already fails, before the others are decoded (the
 # copy's 4th colour image is corrupt: decoding everything first would report that instead).

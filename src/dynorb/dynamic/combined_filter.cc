@@ -106,6 +106,9 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
       continue;  // Neither removals nor mask; the overlay is dropped with them.
     }
     for (size_t i = 0; i < n; ++i) out.keep[i] = out.keep[i] && keep[i];
+    for (const cv::Point2f& m : part.moving_points) {
+      if (!region_only || InsideMask(part.dynamic_mask, m)) out.moving_points.push_back(m);
+    }
     if (!part.dynamic_mask.empty()) {
       if (out.dynamic_mask.empty()) {
         out.dynamic_mask = part.dynamic_mask.clone();

@@ -217,6 +217,7 @@ void FastFilter::GrowRegionsAndRemove(FrameWork* w, FilterOutput* out) {
         ((bits & kCueSuspect) && (suspect_age <= options_.lone_suspect_max_age || !lone_suspect))) {
       out->keep[i] = false;
       ++info_.num_removed;
+      if (bits & (kCueSeed | kCueTrack)) out->moving_points.push_back(p2[i]);
     }
     info_.num_seeds += w->seed[i];
   }

@@ -35,6 +35,11 @@ struct FilterOutput {
   cv::Mat dynamic_mask;    // Optional CV_8U mask (255 = dynamic) for overlays and statistics.
   cv::Mat overlay;         // Optional BGR drawing of the filter's evidence (flow vectors, epipolar
                            // outliers, boxes), only when FilterInput::want_overlay.
+  // The removed keypoints the filter saw move on their own (a motion cue, not only a region or a
+  // mask around them), current-frame pixels. The tracker lets them vote against the landmarks
+  // beside them at their depth (tracking/dynamic_votes.h). Filters without such cues leave it
+  // empty.
+  std::vector<cv::Point2f> moving_points;
   // False when the filter could not judge this frame (the FAST cues on their first frame: no
   // previous frame). The System does not initialize the map from such a frame: its unjudged
   // keypoints would put the movers into the first keyframe.

@@ -204,7 +204,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, 
     record.num_filtered = static_cast<int>(record.keep.size());
     record.num_refilled = 0;
   }
-  Track(&record, std::move(features));
+  Track(&record, std::move(features), std::move(front.moving_points), std::move(front.depth_m));
   record.timing.latency_ms = front.ms + back_end.ElapsedMs();
   record.timing.total_ms = call.ElapsedMs();
   if (!records_.empty()) records_.back().filter_overlay.release();  // Keep only the latest drawing.
@@ -269,6 +269,10 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
     record.keep = keep;
     if (record_keypoints_) record.cue_flags = filter_->CueFlags();
     if (want_overlay) record.filter_overlay = out.overlay;
+    if (options_.tracker.dynamic_votes_to_erase > 0 && !out.moving_points.empty()) {
+      front.moving_points = std::move(out.moving_points);
+      front.depth_m = depth_m;
+    }
     if (!out.judged) {
       front.withheld = std::make_shared<const FrameFeatures>(
           extractor_.DescribeKept(set, std::vector<bool>(set.size(), false)), depth_m, options_.sensor,
@@ -319,7 +323,8 @@ const FrameRecord& System::ProcessFeatures(double timestamp_s,
   return records_.back();
 }
 
-void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features) {
+void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features,
+                   std::vector<cv::Point2f> moving_points, cv::Mat depth_m) {
   ++next_frame_id_;
   Stopwatch watch;
   const bool mapper_idle =
@@ -330,6 +335,8 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   Frame frame(record->id, record->timestamp_s, std::move(features));
   if (record->num_keypoints > 0)
     frame.filtered_fraction = static_cast<double>(record->num_filtered) / record->num_keypoints;
+  frame.moving_points = std::move(moving_points);
+  frame.depth_m = std::move(depth_m);
   const TrackingResult result = tracker_.ProcessOne(std::move(frame), mapper_idle);
   record->timing.track_ms = watch.ElapsedMs();
   record->timing.local_map_ms = result.local_map_ms;
@@ -339,6 +346,9 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
   record->num_inliers = result.num_inliers;
   record->reference_keyframe = result.reference_keyframe;
   record->new_keyframe = result.new_keyframe != kNoKeyframe;
+  record->dynamic_votes = result.dynamic_votes;
+  record->erased_as_dynamic = static_cast<int>(result.erased_as_dynamic.size());
+  if (record_keypoints_) record->erased_landmarks = result.erased_as_dynamic;
 
   if (record_keypoints_) {
     const FrameFeatures& f = *tracker_.last_frame().features;

@@ -102,6 +102,10 @@ struct FrameRecord {
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
   std::vector<cv::KeyPoint> inliers;   // The keypoints the pose rests on (only when record_keypoints).
   std::vector<cv::KeyPoint> new_landmarks;  // Keypoints that became landmarks (only when record_keypoints).
+  int dynamic_votes = 0;                    // Local landmarks observed moving (dynamic_votes.h).
+  int erased_as_dynamic = 0;                // ... erased from the map after repeated votes.
+  std::vector<ErasedLandmark> erased_landmarks;  // ... and where they came from (only when
+                                                 // record_keypoints).
   // The filter's per-cue flags (KeypointFilter::CueFlags), only when record_keypoints.
   std::vector<std::pair<std::string, std::vector<bool>>> cue_flags;
   cv::Mat filter_overlay;              // The filter's drawing (only when record_overlays).
@@ -168,6 +172,8 @@ class System {
     std::shared_ptr<const FrameFeatures> features;
     std::shared_ptr<const FrameFeatures> withheld;  // No keypoints; used when the filter could not
                                                     // judge the frame and the map is not initialized.
+    std::vector<cv::Point2f> moving_points;  // FilterOutput::moving_points and the depth, for
+    cv::Mat depth_m;                         // the landmarks' dynamic votes.
     double ms = 0.0;
   };
   // The front end's first stage: the grey image and its ORB keypoints (touches only the extractor,
@@ -186,7 +192,8 @@ class System {
                           bool want_overlay);
   FrontEnd RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                        std::optional<Rigid3d> predicted_velocity, bool tracker_initialized, bool want_overlay);
-  void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features);
+  void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features,
+             std::vector<cv::Point2f> moving_points = {}, cv::Mat depth_m = cv::Mat());
   void MapperLoop();
 
   SystemOptions options_;

@@ -6,6 +6,8 @@
 #include <memory>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "dynorb/core/ids.h"
 #include "dynorb/core/rigid3.h"
 #include "dynorb/map/frame_features.h"
@@ -24,6 +26,10 @@ struct Frame {
   KeyframeId reference_keyframe = kNoKeyframe;
   // Of the detected keypoints, the fraction the keypoint filter removed (0 without a filter).
   double filtered_fraction = 0.0;
+  // The keypoints the filter saw move (FilterOutput::moving_points) and the frame's depth
+  // (CV_32F metres), for the landmarks' dynamic votes (dynamic_votes.h).
+  std::vector<cv::Point2f> moving_points;
+  cv::Mat depth_m;
 
   Frame() = default;
   Frame(FrameId frame_id, double stamp_s, std::shared_ptr<const FrameFeatures> f)

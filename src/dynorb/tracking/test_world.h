@@ -4,9 +4,12 @@
 // noise and a few flipped descriptor bits — what an ideal ORB extractor + Kinect would give.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <vector>
+
+#include <opencv2/core.hpp>
 
 #include "dynorb/map/frame_features.h"
 #include "dynorb/tracking/frame.h"
@@ -51,6 +54,29 @@ class FeatureWorld {
                                         Eigen::AngleAxisd(0.05 * std::sin(1.3 * t), Eigen::Vector3d::UnitX()) *
                                         Eigen::AngleAxisd(0.04 * std::sin(0.7 * t), Eigen::Vector3d::UnitZ());
     return Rigid3d(rotation, position);
+  }
+
+  // The depth image (CV_32F metres along the optical axis) of the empty room from this pose: every
+  // pixel's ray meets the nearest wall, floor or ceiling.
+  cv::Mat RenderDepth(const Rigid3d& world_from_cam) const {
+    const PinholeCamera& c = sensor_.camera;
+    cv::Mat depth(c.height, c.width, CV_32F);
+    const Eigen::Vector3d lo(-3.0, -1.5, -2.0), hi(3.0, 1.5, 3.0),
+        origin = world_from_cam.translation;
+    for (int v = 0; v < c.height; ++v) {
+      for (int u = 0; u < c.width; ++u) {
+        // The ray of depth 1: its length along the optical axis is 1, so the hit's t is the depth.
+        const Eigen::Vector3d ray =
+            world_from_cam.rotation * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0);
+        double t = 1e9;
+        for (int a = 0; a < 3; ++a) {
+          if (ray[a] > 1e-12) t = std::min(t, (hi[a] - origin[a]) / ray[a]);
+          if (ray[a] < -1e-12) t = std::min(t, (lo[a] - origin[a]) / ray[a]);
+        }
+        depth.at<float>(v, u) = static_cast<float>(t);
+      }
+    }
+    return depth;
   }
 
   // `point_ids` (optional) receives the world point index of each keypoint.

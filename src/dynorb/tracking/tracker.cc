@@ -32,6 +32,12 @@ void TrackerOptions::Validate() const {
     throw InputError(
         "tracking: motion_prior_sigma_m must be >= 0 and motion_prior_velocity_gain in (0, 1]");
   }
+  if (dynamic_votes_to_erase < 0 || !(dynamic_votes.radius_px >= 0.0) ||
+      !(dynamic_votes.band_m >= 0.0) || !(dynamic_votes.band_rel >= 0.0)) {
+    throw InputError(
+        "tracking: dynamic_votes_to_erase, dynamic_vote_radius_px, dynamic_vote_band_m and "
+        "dynamic_vote_band_rel must be >= 0");
+  }
   pose.Validate();
 }
 
@@ -101,7 +107,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
 
   if (ok) {
     Stopwatch watch;
-    ok = TrackLocalMap(&frame, &inliers);
+    ok = TrackLocalMap(&frame, &inliers, &result);
     result.local_map_ms = watch.ElapsedMs();
   }
   state_ = ok ? TrackingState::kOk : TrackingState::kLost;
@@ -277,7 +283,7 @@ bool Tracker::Relocalize(Frame* frame) {
   return relocalizer.Relocalize(*map_, frame);
 }
 
-bool Tracker::TrackLocalMap(Frame* frame, int* inliers) {
+bool Tracker::TrackLocalMap(Frame* frame, int* inliers, TrackingResult* result) {
   std::vector<LandmarkId> visible;
   const LocalMap local =
       map_->Read([&](const MapData& map) { return BuildLocalMap(map, *frame, options_.max_local_keyframes); });
@@ -288,14 +294,51 @@ bool Tracker::TrackLocalMap(Frame* frame, int* inliers) {
                  recent_reloc ? options_.relocalized_radius_factor : options_.local_map_radius_factor,
                  options_.matcher, &visible);
   *inliers = OptimizeAndCount(frame, false);
-  // Visibility statistics feed landmark culling in the mapper.
+  std::vector<LandmarkSeenMoving> seen;
+  if (options_.dynamic_votes_to_erase > 0 && !frame->moving_points.empty()) {
+    std::vector<LandmarkId> ids;
+    std::vector<Eigen::Vector3d> points;
+    ids.reserve(local.landmarks.size());
+    points.reserve(local.landmarks.size());
+    for (const LandmarkView& lm : local.landmarks) {
+      ids.push_back(lm.id);
+      points.push_back(lm.point_in_world);
+    }
+    seen = LandmarksSeenMoving(ids, points, frame->cam_from_world, sensor_.camera,
+                               frame->moving_points, frame->depth_m, options_.dynamic_votes);
+  }
+  result->dynamic_votes = static_cast<int>(seen.size());
+  // Visibility statistics feed landmark culling in the mapper; the dynamic votes erase landmarks.
   map_->Write([&](MapData& map) {
     for (LandmarkId lm : visible) {
       if (map.HasLandmark(lm)) ++map.landmark(lm).num_visible;
     }
+    std::vector<LandmarkId> voted;
+    for (const LandmarkSeenMoving& v : seen) voted.push_back(v.id);
+    std::sort(voted.begin(), voted.end());
     for (size_t i = 0; i < frame->landmarks.size(); ++i) {
       const LandmarkId lm = frame->landmarks[i];
-      if (lm != kNoLandmark && !frame->outlier[i] && map.HasLandmark(lm)) ++map.landmark(lm).num_found;
+      if (lm == kNoLandmark || frame->outlier[i] || !map.HasLandmark(lm)) continue;
+      Landmark& l = map.landmark(lm);
+      ++l.num_found;
+      if (!std::binary_search(voted.begin(), voted.end(), lm)) l.dynamic_votes = 0;  // Seen static.
+    }
+    for (const LandmarkSeenMoving& v : seen) {
+      if (!map.HasLandmark(v.id)) continue;
+      const Landmark& l = map.landmark(v.id);
+      if (++map.landmark(v.id).dynamic_votes < options_.dynamic_votes_to_erase) continue;
+      ErasedLandmark erased;
+      erased.seen = v;
+      for (const auto& [kf_id, index] : l.observations) {  // The oldest keyframe first.
+        if (!map.HasKeyframe(kf_id)) continue;
+        const Keyframe& kf = map.keyframe(kf_id);
+        erased.has_origin = true;
+        erased.origin_timestamp_s = kf.timestamp_s;
+        erased.origin_keypoint = kf.features->keypoint(index);
+        break;
+      }
+      map.EraseLandmark(v.id);
+      result->erased_as_dynamic.push_back(erased);
     }
     return 0;
   });

@@ -19,6 +19,7 @@
 
 #include "dynorb/map/map.h"
 #include "dynorb/tracking/centre_motion_model.h"
+#include "dynorb/tracking/dynamic_votes.h"
 #include "dynorb/tracking/frame.h"
 #include "dynorb/tracking/tracker_options.h"
 
@@ -39,6 +40,8 @@ struct TrackingResult {
   double local_map_ms = 0.0;               // Time spent on local-map tracking.
   std::vector<int> inlier_keypoints;       // Keypoints the final pose rests on (frame feature indices).
   std::vector<int> new_landmark_keypoints;  // Keypoints that became new landmarks (new keyframe).
+  int dynamic_votes = 0;                    // Local landmarks observed moving (dynamic_votes.h).
+  std::vector<ErasedLandmark> erased_as_dynamic;  // Of those, the ones erased (enough votes).
 };
 
 class Tracker {
@@ -57,7 +60,9 @@ class Tracker {
   bool TrackWithMotionModel(Frame* frame);
   bool TrackReferenceKeyframe(Frame* frame);
   bool Relocalize(Frame* frame);
-  bool TrackLocalMap(Frame* frame, int* inliers);
+  // Also finds the local landmarks observed moving and erases the repeat offenders
+  // (TrackerOptions::dynamic_votes_to_erase) into `result`.
+  bool TrackLocalMap(Frame* frame, int* inliers, TrackingResult* result);
   int OptimizeAndCount(Frame* frame, bool drop_outliers);
   bool NeedNewKeyframe(const Frame& frame, bool mapper_idle) const;
   // The covered-view rule's motion condition (TrackerOptions::filtered_keyframe_min_motion_m).

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "dynorb/optimization/pose_optimizer.h"
+#include "dynorb/tracking/dynamic_votes.h"
 #include "dynorb/tracking/projection_search.h"
 
 namespace dynorb {
@@ -60,6 +61,12 @@ struct TrackerOptions {
   // session 26): mean ATE -7 % (twins), -4 % (FAST), -7..-11 % (semantic, fused).
   double motion_prior_sigma_m = 0.004;
   double motion_prior_velocity_gain = 0.1;
+  // A landmark observed moving this many times (dynamic_votes.h), with no pose-inlier match in
+  // between that did not observe it moving, is erased from the map (0: never, the default).
+  // Measured in session 44 and not adopted: at most half of the erased landmarks had been made on
+  // a moving object, and the FAST mean ATE rose by up to 4 % (docs/fast_mode.md, "Session 44").
+  int dynamic_votes_to_erase = 0;
+  DynamicVoteOptions dynamic_votes;
   uint64_t seed = 0;                       // Seeds randomised steps (relocalisation RANSAC).
   PoseOptimizerOptions pose;
   MatcherOptions matcher;
