@@ -113,7 +113,7 @@ void AddViewLossReference(const BenchSequenceRun& dynamic, const BenchSequenceRu
                          std::string("mode label '") + kViewLossLabel +
                              "' is reserved for the view-loss reference runs");
     }
-    has_plain = has_plain || (m.name == "plain" && m.config.empty());
+    has_plain = has_plain || (m.name == "plain" && m.config.empty() && m.overlay.empty());
   }
   if (!has_plain) {
     throw InputErrorAt(suite.file, line,
@@ -181,7 +181,8 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   }
   j["modes"] = nlohmann::json::array();
   for (const BenchMode& m : plan.suite.modes) {
-    j["modes"].push_back({{"label", m.label}, {"name", m.name}, {"config", m.config}});
+    j["modes"].push_back(
+        {{"label", m.label}, {"name", m.name}, {"config", m.config}, {"overlay", m.overlay}});
   }
   if (plan.view_loss_mode) {
     j["modes"].push_back({{"label", plan.view_loss_mode->label},
@@ -214,6 +215,10 @@ BenchPlan PlanBench(const BenchOptions& options) {
     if (!m.config.empty() && !fs::is_regular_file(m.config)) {
       throw InputErrorAt(suite.file, m.line,
                          "config file of mode '" + m.label + "' not found: " + m.config);
+    }
+    if (!m.overlay.empty() && !fs::is_regular_file(m.overlay)) {
+      throw InputErrorAt(suite.file, m.line,
+                         "overlay file of mode '" + m.label + "' not found: " + m.overlay);
     }
     modes.push_back(m);
   }
@@ -359,6 +364,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       RunRequest request;
       request.dataset = seq.dataset;
       request.config = run.mode->config.empty() ? seq.config : run.mode->config;
+      if (!run.mode->overlay.empty()) request.config_overlays = {run.mode->overlay};
       request.out = run.out_dir;
       request.mode = run.mode->name;
       request.run_mode = plan.suite.run_mode;

@@ -17,6 +17,10 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "Run RGB-D SLAM on a TUM-format sequence folder (TUM, Bonn or dynorb synth)");
   cmd->add_option("--dataset", cli->dataset, "Sequence folder (rgb.txt, depth.txt, optional groundtruth.txt)")->required();
   cmd->add_option("--config", cli->config, "Camera/system YAML (ORB-SLAM2 keys accepted); default: DATASET/camera.yaml");
+  cmd->add_option("--config-overlay", cli->config_overlays,
+                  "YAML applied over the config, e.g. a mode section ('fast:' with "
+                  "'correspondences: descriptors'); "
+                  "repeatable, later files win; effective_config.yaml shows the result");
   cmd->add_option("--out", cli->out, "Output folder (created if needed)")->required();
   cmd->add_option("--mode", cli->mode, "Dynamic-object handling: " + RunModeHelp())
       ->check(CLI::IsMember(RunModeNames()));

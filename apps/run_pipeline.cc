@@ -242,6 +242,10 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   } else {
     schema.Load(config_path);
   }
+  if (!cli.config_overlays.empty()) {
+    schema.LoadFiles(cli.config_overlays);  // Their keys override; everything is validated again.
+    for (const std::string& overlay : cli.config_overlays) config_path += " + " + overlay;
+  }
   TumSequence sequence(cli.dataset, config.dataset);
   const auto [first, last] = ParseRange(cli.frames, sequence.size());
   std::error_code ec;

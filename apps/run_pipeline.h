@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,8 @@ namespace dynorb {
 struct RunRequest {
   std::string dataset;                 // sequence folder
   std::string config;                  // YAML; empty: DATASET/camera.yaml
+  std::vector<std::string>
+      config_overlays;                 // YAML files applied over it, in order (their keys win)
   std::string out;                     // output folder (created)
   std::string mode = "plain";          // see run_modes.h
   std::string run_mode = "sequential"; // or "parallel"

@@ -65,6 +65,10 @@ check_error missing_config "missing_config.yaml:4: config file of mode 'plain-no
   "${SYN}modes:
   - {name: plain, config: nope.yaml}
 "
+check_error missing_overlay "missing_overlay.yaml:4: overlay file of mode 'plain-nope' not found" \
+  "${SYN}modes:
+  - {name: plain, overlay: nope.yaml}
+"
 err=$("$DYNORB" bench --suite "$DIR/no_such_suite.yaml" --out "$DIR/o" 2>&1 >/dev/null)
 [[ $? == 2 ]] && grep -qF "suite file not found" <<<"$err" || fail "missing suite file: $err"
 
@@ -309,6 +313,22 @@ assert default["erased"] == default["votes"] == default["made_on_dynamic_objects
 assert votes["votes"] >= votes["erased"] > 0, votes
 assert votes["erased"] >= votes["origin_known"] >= votes["made_on_dynamic_objects"] >= 0, votes
 EOF
+# --config-overlay: more YAML over the config (later files win); effective_config.yaml and
+# stats.json show it. A missing or bad overlay: one error line naming it, no outputs.
+printf 'fast:\n  correspondences: descriptors\n' >"$DIR/bf.yaml"
+printf 'fast:\n  correspondences: telepathy\n' >"$DIR/bad_overlay.yaml"
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config-overlay "$DIR/bf.yaml" --out "$DIR/fastbf" \
+  --quiet >/dev/null 2>&1 || fail "fast run with an overlay"
+grep -qE '^ *correspondences: "?descriptors' "$DIR/fastbf/effective_config.yaml" || fail "overlay not in effective_config.yaml"
+grep -qF "camera.yaml + $DIR/bf.yaml" "$DIR/fastbf/stats.json" || fail "stats.json config does not name the overlay"
+grep -qE '^ *correspondences: "?flow' "$DIR/fastrun/effective_config.yaml" || fail "default run is not on flow"
+for overlay in "$DIR/no_such_overlay.yaml" "$DIR/bad_overlay.yaml"; do
+  err=$("$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config-overlay "$overlay" \
+    --out "$DIR/fastbad" --quiet 2>&1 >/dev/null)
+  [[ $? == 2 ]] || fail "bad overlay $overlay: exit code not 2 ($err)"
+  grep -qF "$overlay" <<<"$err" || fail "bad overlay: message '$err' does not name $overlay"
+  [[ ! -e "$DIR/fastbad/stats.json" ]] || fail "bad overlay: wrote stats.json"
+done
 # A frame whose size disagrees with the config: exit 2, one error line naming the image, no
 # results; with --preload the first frame already fails, before the others are decoded (the
 # copy's 4th colour image is corrupt: decoding everything first would report that instead).

@@ -117,18 +117,22 @@ class Parser {
     if (node.IsScalar()) {
       m.name = Str(node, "modes");
     } else {
-      CheckKeys(node, {"name", "config", "label", "optional"}, "a mode");
+      CheckKeys(node, {"name", "config", "overlay", "label", "optional"}, "a mode");
       if (!node["name"]) Fail(node, "mode without 'name'");
       m.name = Str(node["name"], "name");
       if (node["config"]) m.config = Resolve(Str(node["config"], "config"));
+      if (node["overlay"]) m.overlay = Resolve(Str(node["overlay"], "overlay"));
       if (node["optional"]) m.optional = Bool(node["optional"], "optional");
       if (node["label"]) {
         m.label = Str(node["label"], "label");
         CheckName(node["label"], m.label);
       }
     }
-    if (m.label.empty())
-      m.label = m.config.empty() ? m.name : m.name + "-" + fs::path(m.config).stem().string();
+    if (m.label.empty()) {
+      m.label = m.name;
+      if (!m.config.empty()) m.label += "-" + fs::path(m.config).stem().string();
+      if (!m.overlay.empty()) m.label += "-" + fs::path(m.overlay).stem().string();
+    }
     return m;
   }
 

@@ -13,6 +13,7 @@
 //   modes:
 //     - plain
 //     - {name: fast, config: fast_strict.yaml}     # replaces the sequence's config for this mode
+//     - {name: fast, overlay: fast_bf.yaml}        # applied over the sequence's config
 //     - {name: semantic, optional: true}           # skipped (warning) if this build lacks it
 //
 // Parsing only checks the file itself (types, unknown keys, duplicates, file:line in every
@@ -53,7 +54,9 @@ struct BenchSequence {
 struct BenchMode {
   std::string name;    // a registered run mode (checked by the caller)
   std::string config;  // optional: config replacing the sequence's one, resolved against the suite
-  std::string label;   // column label; default: name (+ config file stem)
+  std::string overlay;  // optional: YAML applied over the (sequence's or mode's) config, e.g. a
+                        // mode section; resolved against the suite (`dynorb run --config-overlay`)
+  std::string label;    // column label; default: name (+ config and overlay file stems)
   bool optional = false;  // skipped with a warning when the mode is not registered in this build
   int line = 0;
 };

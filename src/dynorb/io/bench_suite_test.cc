@@ -59,6 +59,28 @@ modes:
   EXPECT_EQ(suite.RunSeeds(3), (std::vector<uint64_t>{1, 2, 3}));
 }
 
+// A mode's overlay is applied over the sequence's (or the mode's) config; the label names both.
+TEST(BenchSuite, ModeOverlays) {
+  const BenchSuite suite = ParseBenchSuite(R"(sequences:
+  - {name: syn, synthetic: {preset: walking_xyz, seed: 4, frames: 60}}
+modes:
+  - fast
+  - {name: fast, overlay: configs/fast_descriptors.yaml}
+  - {name: fast, config: strict.yaml, overlay: votes.yaml}
+  - {name: fast, overlay: votes.yaml, label: fast-votes}
+)",
+                                           "suite.yaml", "/repo/suites");
+  ASSERT_EQ(suite.modes.size(), 4u);
+  EXPECT_TRUE(suite.modes[0].overlay.empty());
+  EXPECT_EQ(suite.modes[1].overlay, "/repo/suites/configs/fast_descriptors.yaml");
+  EXPECT_EQ(suite.modes[1].label, "fast-fast_descriptors");
+  EXPECT_EQ(suite.modes[2].label, "fast-strict-votes");
+  EXPECT_EQ(suite.modes[3].label, "fast-votes");
+  EXPECT_THAT(
+      ErrorOf("sequences:\n  - {name: a, path: a}\nmodes:\n  - {name: fast, overlay: [x]}\n"),
+      HasSubstr("suite.yaml:4"));
+}
+
 TEST(BenchSuite, ViewLossReference) {
   const BenchSuite suite = ParseBenchSuite(
       "sequences:\n  - {name: s, synthetic: {preset: walking_static, view_loss: true}}\nmodes: "
@@ -158,7 +180,8 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
 }
 
 TEST(BenchSuite, ShippedSuitesParse) {
-  for (const char* name : {"quick", "synthetic", "tum", "demo", "dynamic_seeds", "walking_full"}) {
+  for (const char* name :
+       {"quick", "synthetic", "tum", "demo", "dynamic_seeds", "walking_full", "fast_methods"}) {
     const BenchSuite suite =
         LoadBenchSuite(std::string(DYNORB_SOURCE_DIR) + "/bench/suites/" + name + ".yaml");
     EXPECT_EQ(suite.name, name);
