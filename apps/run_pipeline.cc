@@ -495,9 +495,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     stats["landmarks_erased_as_dynamic"]["origin_known"] = erased.with_origin;
     stats["landmarks_erased_as_dynamic"]["made_on_definition"] =
         "of the erased landmarks whose oldest observing keyframe was still in the map "
-        "(origin_known), those "
-        "whose keypoint there lay on a dynamic object of the ground-truth masks (moving at that "
-        "frame or not)";
+        "(origin_known), "
+        "those whose keypoint there lay on a dynamic object of the ground-truth masks (moving at "
+        "that frame or not)";
     for (const auto& [cue, cue_labels] : cue_stats) {
       const nlohmann::json all = cue_labels.ToJson();
       stats["dynamic_keypoints"]["by_cue"][cue] = {{"flagged", all["true_positive"].get<long long>() +

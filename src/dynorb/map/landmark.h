@@ -24,7 +24,8 @@ struct Landmark {
   FrameId first_frame = 0;
   int num_visible = 1;                      // Frames in whose frustum it was predicted.
   int num_found = 1;                        // Frames where it was matched.
-  int dynamic_votes = 0;                    // Times it was observed on a moving region.
+  int dynamic_votes = 0;                    // Times observed moving since its last static inlier
+                                            // match (tracking/dynamic_votes.h).
 
   double FoundRatio() const { return static_cast<double>(num_found) / std::max(1, num_visible); }
   int NumObservations() const { return static_cast<int>(observations.size()); }

@@ -325,8 +325,8 @@ bool Tracker::TrackLocalMap(Frame* frame, int* inliers, TrackingResult* result) 
     }
     for (const LandmarkSeenMoving& v : seen) {
       if (!map.HasLandmark(v.id)) continue;
-      const Landmark& l = map.landmark(v.id);
-      if (++map.landmark(v.id).dynamic_votes < options_.dynamic_votes_to_erase) continue;
+      Landmark& l = map.landmark(v.id);
+      if (++l.dynamic_votes < options_.dynamic_votes_to_erase) continue;
       ErasedLandmark erased;
       erased.seen = v;
       for (const auto& [kf_id, index] : l.observations) {  // The oldest keyframe first.
