@@ -302,9 +302,8 @@ cmp -s <(cut -d, -f1-11,20- "$DIR/fastrun/frames.csv") <(cut -d, -f1-11,20- "$DI
   fail "--preload changed frames.csv beyond its timing columns"
 # Landmark dynamic votes (tracking.dynamic_votes_to_erase, off by default): with one vote a FAST
 # run erases landmarks seen next to moving keypoints and judges each by where it was made.
-cp "$OUT/cache/walking_xyz_s3_f14/camera.yaml" "$DIR/votes.yaml"
-printf 'tracking:\n  dynamic_votes_to_erase: 1\n' >>"$DIR/votes.yaml"
-"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config "$DIR/votes.yaml" --out "$DIR/fastvotes" \
+printf 'tracking:\n  dynamic_votes_to_erase: 1\n' >"$DIR/votes.yaml"
+"$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config-overlay "$DIR/votes.yaml" --out "$DIR/fastvotes" \
   --quiet >/dev/null 2>&1 || fail "fast run with dynamic votes"
 /usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/fastvotes/stats.json" <<'EOF' || fail "landmark dynamic votes"
 import json, sys

@@ -55,4 +55,37 @@ std::vector<LandmarkSeenMoving> LandmarksSeenMoving(
   return seen;
 }
 
+std::vector<ErasedLandmark> ApplyDynamicVotes(const Frame& frame,
+                                              const std::vector<LandmarkSeenMoving>& seen,
+                                              int votes_to_erase, MapData* map) {
+  std::vector<LandmarkId> voted;
+  for (const LandmarkSeenMoving& v : seen) voted.push_back(v.id);
+  std::sort(voted.begin(), voted.end());
+  for (size_t i = 0; i < frame.landmarks.size(); ++i) {
+    const LandmarkId lm = frame.landmarks[i];
+    if (lm == kNoLandmark || frame.outlier[i] || !map->HasLandmark(lm)) continue;
+    if (!std::binary_search(voted.begin(), voted.end(), lm))
+      map->landmark(lm).dynamic_votes = 0;  // Seen static.
+  }
+  std::vector<ErasedLandmark> erased;
+  for (const LandmarkSeenMoving& v : seen) {
+    if (!map->HasLandmark(v.id)) continue;
+    Landmark& l = map->landmark(v.id);
+    if (++l.dynamic_votes < votes_to_erase) continue;
+    ErasedLandmark e;
+    e.seen = v;
+    for (const auto& [kf_id, index] : l.observations) {  // The oldest keyframe first.
+      if (!map->HasKeyframe(kf_id)) continue;
+      const Keyframe& kf = map->keyframe(kf_id);
+      e.has_origin = true;
+      e.origin_timestamp_s = kf.timestamp_s;
+      e.origin_keypoint = kf.features->keypoint(index);
+      break;
+    }
+    map->EraseLandmark(v.id);
+    erased.push_back(e);
+  }
+  return erased;
+}
+
 }  // namespace dynorb

@@ -23,6 +23,8 @@
 #include "dynorb/core/ids.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
+#include "dynorb/map/map.h"
+#include "dynorb/tracking/frame.h"
 
 namespace dynorb {
 
@@ -56,5 +58,12 @@ std::vector<LandmarkSeenMoving> LandmarksSeenMoving(
     const Rigid3d& cam_from_world, const PinholeCamera& camera,
     const std::vector<cv::Point2f>& moving_points, const cv::Mat& depth_m,
     const DynamicVoteOptions& options);
+
+// Counts one frame's votes in the map: `frame`'s pose inliers that were not seen moving clear
+// their landmark's count, each landmark of `seen` gets a vote, and those reaching
+// `votes_to_erase` are erased (returned with their origin).
+std::vector<ErasedLandmark> ApplyDynamicVotes(const Frame& frame,
+                                              const std::vector<LandmarkSeenMoving>& seen,
+                                              int votes_to_erase, MapData* map);
 
 }  // namespace dynorb

@@ -313,32 +313,14 @@ bool Tracker::TrackLocalMap(Frame* frame, int* inliers, TrackingResult* result) 
     for (LandmarkId lm : visible) {
       if (map.HasLandmark(lm)) ++map.landmark(lm).num_visible;
     }
-    std::vector<LandmarkId> voted;
-    for (const LandmarkSeenMoving& v : seen) voted.push_back(v.id);
-    std::sort(voted.begin(), voted.end());
     for (size_t i = 0; i < frame->landmarks.size(); ++i) {
       const LandmarkId lm = frame->landmarks[i];
-      if (lm == kNoLandmark || frame->outlier[i] || !map.HasLandmark(lm)) continue;
-      Landmark& l = map.landmark(lm);
-      ++l.num_found;
-      if (!std::binary_search(voted.begin(), voted.end(), lm)) l.dynamic_votes = 0;  // Seen static.
+      if (lm != kNoLandmark && !frame->outlier[i] && map.HasLandmark(lm))
+        ++map.landmark(lm).num_found;
     }
-    for (const LandmarkSeenMoving& v : seen) {
-      if (!map.HasLandmark(v.id)) continue;
-      Landmark& l = map.landmark(v.id);
-      if (++l.dynamic_votes < options_.dynamic_votes_to_erase) continue;
-      ErasedLandmark erased;
-      erased.seen = v;
-      for (const auto& [kf_id, index] : l.observations) {  // The oldest keyframe first.
-        if (!map.HasKeyframe(kf_id)) continue;
-        const Keyframe& kf = map.keyframe(kf_id);
-        erased.has_origin = true;
-        erased.origin_timestamp_s = kf.timestamp_s;
-        erased.origin_keypoint = kf.features->keypoint(index);
-        break;
-      }
-      map.EraseLandmark(v.id);
-      result->erased_as_dynamic.push_back(erased);
+    if (options_.dynamic_votes_to_erase > 0) {
+      result->erased_as_dynamic =
+          ApplyDynamicVotes(*frame, seen, options_.dynamic_votes_to_erase, &map);
     }
     return 0;
   });
