@@ -2,13 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <utility>
 
 #include "dynorb/core/error.h"
 #include "dynorb/features/brief_pattern.h"
@@ -26,6 +28,9 @@ namespace {
       std::abort();                                                                 \
     }                                                                               \
   } while (0)
+
+// A level pixel as one sortable number (levels are far narrower than 2^31 px).
+int64_t RasterIndex(const cv::Point& p) { return (static_cast<int64_t>(p.y) << 32) + p.x; }
 
 constexpr int kFastRing = 3;                               // FAST's circle radius
 constexpr int kDetectBorder = kEdgeThreshold - kFastRing;  // FAST window starts 16 px inside
@@ -138,7 +143,8 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
     throw InputError("OrbExtractor::Detect: expected an 8-bit single-channel image, got type " +
                      std::to_string(image.type()));
   }
-  return DetectOnPyramid(std::make_shared<ImagePyramid>(image, levels_), cv::Mat(), nullptr);
+  return DetectOnPyramid(std::make_shared<ImagePyramid>(image, levels_), cv::Mat(), nullptr,
+                         nullptr);
 }
 
 KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const {
@@ -148,12 +154,13 @@ KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat
   if (exclude.type() != CV_8UC1 || exclude.size() != full) {
     throw InputError("OrbExtractor::DetectExcluding: the mask must be CV_8UC1 of the image size");
   }
-  return DetectOnPyramid(base.pyramid, exclude, base.candidates);
+  return DetectOnPyramid(base.pyramid, exclude, base.candidates, &base);
 }
 
 KeypointSet OrbExtractor::DetectOnPyramid(
     std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
-    std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const {
+    std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates,
+    const KeypointSet* oriented) const {
   KeypointSet set;
   // Levels are independent: detect them on OpenCV's worker threads, then concatenate in level
   // order, so the result is the same whatever the thread count.
@@ -165,6 +172,18 @@ KeypointSet OrbExtractor::DetectOnPyramid(
   const bool have_corners = candidates != nullptr && static_cast<int>(candidates->size()) == num_levels;
   std::shared_ptr<std::vector<std::vector<cv::KeyPoint>>> fresh;
   if (!have_corners) fresh = std::make_shared<std::vector<std::vector<cv::KeyPoint>>>(num_levels);
+  // Angles already computed on this pyramid, per level, sorted by the level pixel's raster index.
+  std::vector<std::vector<std::pair<int64_t, float>>> known(num_levels);
+  if (oriented != nullptr && oriented->pyramid == pyramid &&
+      oriented->level_pixels.size() == oriented->keypoints.size()) {
+    for (size_t i = 0; i < oriented->keypoints.size(); ++i) {
+      const int l = oriented->keypoints[i].octave;
+      if (l < 0 || l >= num_levels) continue;
+      const cv::Point& p = oriented->level_pixels[i];
+      known[l].emplace_back(RasterIndex(p), oriented->keypoints[i].angle);
+    }
+    for (auto& level_known : known) std::sort(level_known.begin(), level_known.end());
+  }
   cv::parallel_for_(cv::Range(0, num_levels), [&](const cv::Range& range) {
     for (int l = range.start; l < range.end; ++l) {
       if (!pyramid->LevelUsable(l)) continue;
@@ -190,7 +209,14 @@ KeypointSet OrbExtractor::DetectOnPyramid(
       const float size = static_cast<float>(kPatchSize * levels_.scale[l]);
       for (cv::KeyPoint& kp : per_level[l]) {
         const cv::Point pixel(static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y));
-        kp.angle = IntensityCentroidAngleDeg(level, pixel);
+        const std::vector<std::pair<int64_t, float>>& level_known = known[l];
+        const int64_t index = RasterIndex(pixel);
+        const auto hit = std::lower_bound(
+            level_known.begin(), level_known.end(), index,
+            [](const std::pair<int64_t, float>& e, int64_t v) { return e.first < v; });
+        kp.angle = hit != level_known.end() && hit->first == index
+                       ? hit->second
+                       : IntensityCentroidAngleDeg(level, pixel);
         kp.pt = pyramid->LevelToFull(l, kp.pt);
         kp.octave = l;
         kp.size = size;

@@ -92,9 +92,12 @@ class OrbExtractor {
   std::vector<cv::KeyPoint> DistributeOnLevel(const cv::Mat& level,
                                               std::vector<cv::KeyPoint> corners, int budget) const;
   // `candidates`: FAST corners per level from an earlier detection (nullptr: run FAST).
+  // `oriented`: an earlier detection on the same pyramid (or nullptr); a keypoint it already
+  // holds (same level, same level pixel) takes its angle instead of computing it again.
   KeypointSet DetectOnPyramid(
       std::shared_ptr<const ImagePyramid> pyramid, const cv::Mat& exclude,
-      std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates) const;
+      std::shared_ptr<const std::vector<std::vector<cv::KeyPoint>>> candidates,
+      const KeypointSet* oriented) const;
 
   OrbOptions options_;
   ScaleLevels levels_;

@@ -10,6 +10,7 @@
 
 #include "dynorb/core/error.h"
 #include "dynorb/features/brief_pattern.h"
+#include "dynorb/features/orb_descriptor.h"
 #include "dynorb/features/synthetic_texture.h"
 
 namespace dynorb {
@@ -223,6 +224,23 @@ TEST(OrbExtractor, DetectExcludingSpendsTheBudgetOutsideTheMask) {
   // ones the first detection had there.
   EXPECT_GE(right.size(), all.size() * 9 / 10);
   EXPECT_GT(right.size(), kept_right * 5 / 4);
+  // Angles reused from the first detection or computed now: each is the keypoint's own
+  // intensity-centroid angle on its level.
+  ASSERT_EQ(right.level_pixels.size(), right.keypoints.size());
+  int reused = 0;
+  for (int i = 0; i < right.size(); ++i) {
+    const cv::KeyPoint& kp = right.keypoints[i];
+    EXPECT_EQ(kp.angle,
+              IntensityCentroidAngleDeg(right.pyramid->Level(kp.octave), right.level_pixels[i]))
+        << i;
+    for (int j = 0; j < all.size(); ++j) {
+      if (all.keypoints[j].octave == kp.octave && all.level_pixels[j] == right.level_pixels[i]) {
+        ++reused;
+        break;
+      }
+    }
+  }
+  EXPECT_GT(reused, kept_right / 2);  // the case the reuse serves exists in this test
   EXPECT_THROW(extractor.DetectExcluding(all, cv::Mat::zeros(10, 10, CV_8U)), InputError);
 }
 

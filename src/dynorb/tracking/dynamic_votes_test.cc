@@ -97,7 +97,9 @@ TEST_F(DynamicVotesTracking, ErasesTheLandmarksSeenMovingThreeTimes) {
     const TrackingResult r = Feed(tracker, k, true);
     ASSERT_TRUE(r.pose_valid);
     EXPECT_GT(r.dynamic_votes, 20) << "frame " << k;
-    if (k < 12) EXPECT_TRUE(r.erased_as_dynamic.empty()) << "frame " << k;
+    if (k < 12) {
+      EXPECT_TRUE(r.erased_as_dynamic.empty()) << "frame " << k;
+    }
     erased.insert(erased.end(), r.erased_as_dynamic.begin(), r.erased_as_dynamic.end());
   }
   ASSERT_GT(erased.size(), 20u);
