@@ -52,11 +52,18 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
                 "half the machine's memory");
   cmd->add_option("--seed", cli->seed, "Seed of the randomised steps (RANSAC)")->check(NonNegativeInteger());
   cmd->add_option("--frames", cli->frames, "Frame range A:B (0-based, B exclusive; either side may be empty)");
+  cmd->add_flag(
+      "--save-map", cli->save_map,
+      "Also write OUT/map.ply: the final map's landmarks as a coloured point cloud (binary PLY; "
+      "MeshLab, CloudCompare, Open3D), with a per-point on_dynamic_object flag when the sequence "
+      "has "
+      "ground-truth masks");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
     const nlohmann::json stats = RunPipeline(*cli);
     std::cout << FormatRunSummary(stats) << "outputs: " << cli->out
-              << "/{trajectory.txt,keyframes.txt,stats.json,frames.csv,effective_config.yaml}\n";
+              << "/{trajectory.txt,keyframes.txt,stats.json,frames.csv,effective_config.yaml"
+              << (cli->save_map ? ",map.ply" : "") << "}\n";
   });
 });
 

@@ -101,22 +101,32 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
   return count;
 }
 
-ErasedLandmarkTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
-                                            const MaskGroundTruth& masks) {
-  ErasedLandmarkTruth truth;
+OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
+                            const MaskGroundTruth& masks) {
+  OriginTruth truth;
+  truth.on_object.assign(origins.size(), 0);
   std::map<double, cv::Mat> by_stamp;  // Several landmarks often come from one keyframe.
-  for (const ErasedLandmark& e : erased) {
-    if (!e.has_origin) continue;
-    auto it = by_stamp.find(e.origin_timestamp_s);
+  for (size_t i = 0; i < origins.size(); ++i) {
+    const LandmarkOrigin& o = origins[i];
+    if (!o.known) continue;
+    auto it = by_stamp.find(o.timestamp_s);
     if (it == by_stamp.end())
-      it = by_stamp.emplace(e.origin_timestamp_s, masks.MaskAt(e.origin_timestamp_s)).first;
+      it = by_stamp.emplace(o.timestamp_s, masks.MaskAt(o.timestamp_s)).first;
     const cv::Mat& mask = it->second;
     if (mask.empty()) continue;
     ++truth.with_origin;
-    truth.made_on_objects +=
-        mask.at<uint8_t>(NearestPixel(e.origin_keypoint.pt, mask.size())) != 0 ? 1 : 0;
+    truth.on_object[i] = mask.at<uint8_t>(NearestPixel(o.keypoint.pt, mask.size())) != 0 ? 1 : 0;
+    truth.made_on_objects += truth.on_object[i];
   }
   return truth;
+}
+
+OriginTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
+                                    const MaskGroundTruth& masks) {
+  std::vector<LandmarkOrigin> origins;
+  origins.reserve(erased.size());
+  for (const ErasedLandmark& e : erased) origins.push_back(e.origin);
+  return ClassifyOrigins(origins, masks);
 }
 
 KeypointTruth ComputeKeypointTruth(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,

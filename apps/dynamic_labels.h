@@ -93,14 +93,19 @@ struct KeypointsOnObjects {
 KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask,
                                   const cv::Mat& ignore, double level_scale_factor);
 
-// Of the landmarks the tracker erased as dynamic, those whose origin is known (ErasedLandmark) and,
-// of them, those whose keypoint at the origin lay (centre pixel) on an object of the masks.
-struct ErasedLandmarkTruth {
+// Of landmark origins (LandmarkOrigin, landmark_summary.h), those known and with a mask at their
+// stamp (with_origin) and, of them, those whose keypoint at the origin lay (centre pixel) on an
+// object of the masks (made_on_objects; on_object[i] = 1 for them, one entry per origin).
+struct OriginTruth {
   long long with_origin = 0;
   long long made_on_objects = 0;
+  std::vector<uint8_t> on_object;
 };
-ErasedLandmarkTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
-                                            const MaskGroundTruth& masks);
+OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
+                            const MaskGroundTruth& masks);
+// The same for the landmarks the tracker erased as dynamic (ErasedLandmark).
+OriginTruth ClassifyErasedLandmarks(const std::vector<ErasedLandmark>& erased,
+                                    const MaskGroundTruth& masks);
 
 // Draws kept keypoints green and removed ones red on `base` (the filter's overlay, or the image).
 cv::Mat DrawKeypointOverlay(const cv::Mat& base, const std::vector<cv::KeyPoint>& keypoints,

@@ -164,17 +164,22 @@ TEST(ClassifyErasedLandmarks, ByTheMaskAtTheirOrigin) {
   ASSERT_TRUE(masks.has_value());
   auto erased = [](double stamp, float x, float y, bool known) {
     ErasedLandmark e;
-    e.has_origin = known;
-    e.origin_timestamp_s = stamp;
-    e.origin_keypoint = At(x, y, 0);
+    e.origin.known = known;
+    e.origin.timestamp_s = stamp;
+    e.origin.keypoint = At(x, y, 0);
     return e;
   };
-  const ErasedLandmarkTruth truth = ClassifyErasedLandmarks(
+  const OriginTruth truth = ClassifyErasedLandmarks(
       {erased(1.0, 50, 50, true), erased(1.0, 10, 10, true), erased(2.0, 50, 50, true),
        erased(1.0, 45, 45, false), erased(1.0, 59.4f, 40, true)},
       *masks);
   EXPECT_EQ(truth.with_origin, 4);
   EXPECT_EQ(truth.made_on_objects, 2);  // (50, 50) and (59.4, 40) at stamp 1.0
+  EXPECT_EQ(truth.on_object, (std::vector<uint8_t>{1, 0, 0, 0, 1}));
+  // A stamp without a mask is not judged.
+  const OriginTruth later = ClassifyErasedLandmarks({erased(3.0, 50, 50, true)}, *masks);
+  EXPECT_EQ(later.with_origin, 0);
+  EXPECT_EQ(later.on_object, (std::vector<uint8_t>{0}));
 }
 
 }  // namespace

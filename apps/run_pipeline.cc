@@ -23,10 +23,13 @@
 #include "dynorb/eval/report.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/io/config.h"
+#include "dynorb/io/point_cloud_io.h"
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
+#include "dynorb/map/landmark_summary.h"
 #include "dynorb/place_recognition/vocabulary.h"
 #include "dynorb/system/system.h"
+#include "map_export.h"
 #include "preload_budget.h"
 #include "progress_bar.h"
 #include "run_checks.h"
@@ -490,7 +493,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     for (const FrameRecord& r : system.records())
       erased_landmarks.insert(erased_landmarks.end(), r.erased_landmarks.begin(),
                               r.erased_landmarks.end());
-    const ErasedLandmarkTruth erased = ClassifyErasedLandmarks(erased_landmarks, *masks);
+    const OriginTruth erased = ClassifyErasedLandmarks(erased_landmarks, *masks);
     stats["landmarks_erased_as_dynamic"]["made_on_dynamic_objects"] = erased.made_on_objects;
     stats["landmarks_erased_as_dynamic"]["origin_known"] = erased.with_origin;
     stats["landmarks_erased_as_dynamic"]["made_on_definition"] =
@@ -507,6 +510,25 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     }
   }
 
+  // The final map: its landmarks checked against the masks; with --save-map, map.ply (made before
+  // any output is written, so a failure leaves none).
+  const std::vector<LandmarkSummary> map_landmarks =
+      system.map().Read([](const MapData& map) { return SummarizeLandmarks(map); });
+  std::vector<uint8_t> on_dynamic_object;
+  if (masks) {
+    std::vector<LandmarkOrigin> origins;
+    origins.reserve(map_landmarks.size());
+    for (const LandmarkSummary& l : map_landmarks) origins.push_back(l.origin);
+    OriginTruth truth = ClassifyOrigins(origins, *masks);
+    stats["map_landmarks_on_dynamic_objects"] = MapTruthJson(truth, map_landmarks.size());
+    on_dynamic_object = std::move(truth.on_object);
+  }
+  std::optional<PointCloud> map_cloud;
+  if (cli.save_map)
+    map_cloud =
+        MapPointCloud(map_landmarks, LandmarkColours(map_landmarks, sequence), on_dynamic_object);
+
+  if (map_cloud) WritePlyPointCloud((fs::path(cli.out) / "map.ply").string(), *map_cloud);
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
   schema.Write((fs::path(cli.out) / "effective_config.yaml").string());

@@ -33,6 +33,8 @@ struct RunRequest {
   // Decode every frame before the run (timing as with a live camera: no PNG decoding competing
   // for the cores; memory ~2.2-2.8 MB per 640x480 frame, checked against the machine's).
   bool preload = false;
+  // Also write OUT/map.ply: the final map's landmarks, coloured from their keyframe's image.
+  bool save_map = false;
 };
 
 // Throws InputError for bad input (nothing is written then, or only complete files).

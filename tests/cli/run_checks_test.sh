@@ -58,6 +58,33 @@ grep -qF "has no camera.yaml (use e.g. --config config/tum_fr3.yaml; a folder na
   fail "folder without camera.yaml: message '$err'"
 [[ ! -e "$DIR/other" ]] || fail "folder without camera.yaml: wrote output"
 
+# --save-map: OUT/map.ply holds every landmark of the final map (stats.json "landmarks"), coloured
+# from the images, with the ground-truth flag whose count stats.json reports; without the flag
+# there is no map.ply.
+[[ -e "$DIR/good/map.ply" ]] && fail "map.ply written without --save-map"
+out=$("$DYNORB" run --dataset "$SEQ" --out "$DIR/map" --save-map --quiet 2>&1) || fail "--save-map: exit code $?"
+grep -q 'map.ply}' <<<"$out" || fail "--save-map: the outputs line does not list map.ply: $out"
+/usr/bin/python3 - "$DIR/map" <<'PYEOF2' || fail "--save-map: map.ply does not match stats.json"
+import json, struct, sys
+d = sys.argv[1]
+stats = json.load(open(d + "/stats.json"))
+data = open(d + "/map.ply", "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+header = data[:end].decode().splitlines()
+n = int([l for l in header if l.startswith("element vertex")][0].split()[2])
+props = [l.split()[2] for l in header if l.startswith("property")]
+assert props == ["x", "y", "z", "red", "green", "blue", "on_dynamic_object"], props
+assert n == stats["landmarks"] == stats["map_landmarks_on_dynamic_objects"]["landmarks"] > 100, (n, stats["landmarks"])
+stride = 16
+assert len(data) - end == n * stride
+rows = [data[end + i * stride:end + (i + 1) * stride] for i in range(n)]
+flagged = sum(r[15] for r in rows)
+assert flagged == stats["map_landmarks_on_dynamic_objects"]["made_on_dynamic_objects"], flagged
+assert len({r[12:15] for r in rows}) > 20, "colours look constant"
+zs = [struct.unpack("<f", r[8:12])[0] for r in rows]
+assert all(abs(z) < 50 for z in zs)
+PYEOF2
+
 # FAST mode's analysis schedule: every second frame analysed, the key in effect; bad values are
 # one message, exit 2, no output.
 cp "$SEQ/camera.yaml" "$DIR/every2.yaml"

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "dynorb/map/frame_features.h"
+#include "dynorb/map/landmark_summary.h"
 #include "dynorb/map/place_candidates.h"
 
 namespace dynorb {
@@ -178,6 +179,31 @@ TEST_F(MapDataTest, EraseObservationDropsUnderObservedLandmark) {
   map_.EraseObservation(lm, ids_[0]);
   EXPECT_FALSE(map_.HasLandmark(lm));  // 1 observation left: erased.
   EXPECT_EQ(map_.keyframe(ids_[1]).landmarks[0], kNoLandmark);
+}
+
+TEST_F(MapDataTest, SummaryGivesEachLandmarkItsOldestKeyframeStillInTheMap) {
+  std::vector<LandmarkSummary> all = SummarizeLandmarks(map_);
+  ASSERT_EQ(all.size(), map_.NumLandmarks());
+  for (const LandmarkSummary& s : all) {
+    const Landmark& l = map_.landmark(s.id);
+    EXPECT_EQ(s.point_in_world, l.point_in_world);
+    EXPECT_EQ(s.num_observations, l.NumObservations());
+    ASSERT_TRUE(s.origin.known);
+    const auto& [first_kf, index] = *l.observations.begin();
+    EXPECT_EQ(s.origin.keyframe, first_kf);
+    EXPECT_EQ(s.origin.timestamp_s, map_.keyframe(first_kf).timestamp_s);
+    EXPECT_EQ(s.origin.keypoint.pt, map_.keyframe(first_kf).features->keypoint(index).pt);
+  }
+  EXPECT_EQ(all[40].origin.keyframe, ids_[1]);  // seen by keyframes 1 and 2
+  map_.EraseKeyframe(ids_[1]);
+  all = SummarizeLandmarks(map_);
+  int moved = 0;
+  for (const LandmarkSummary& s : all) {
+    ASSERT_TRUE(s.origin.known);
+    EXPECT_NE(s.origin.keyframe, ids_[1]);
+    moved += s.origin.keyframe == ids_[2] ? 1 : 0;
+  }
+  EXPECT_GT(moved, 0);  // the 1-2 landmarks that kept an observation now come from keyframe 2
 }
 
 TEST_F(MapDataTest, ReplaceLandmarkMovesObservations) {

@@ -74,14 +74,7 @@ std::vector<ErasedLandmark> ApplyDynamicVotes(const Frame& frame,
     if (++l.dynamic_votes < votes_to_erase) continue;
     ErasedLandmark e;
     e.seen = v;
-    for (const auto& [kf_id, index] : l.observations) {  // The oldest keyframe first.
-      if (!map->HasKeyframe(kf_id)) continue;
-      const Keyframe& kf = map->keyframe(kf_id);
-      e.has_origin = true;
-      e.origin_timestamp_s = kf.timestamp_s;
-      e.origin_keypoint = kf.features->keypoint(index);
-      break;
-    }
+    e.origin = OriginOf(*map, l);
     map->EraseLandmark(v.id);
     erased.push_back(e);
   }

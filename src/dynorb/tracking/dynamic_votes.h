@@ -23,6 +23,7 @@
 #include "dynorb/core/ids.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
+#include "dynorb/map/landmark_summary.h"
 #include "dynorb/map/map.h"
 #include "dynorb/tracking/frame.h"
 
@@ -39,14 +40,11 @@ struct LandmarkSeenMoving {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // Its projection in the frame.
 };
 
-// A landmark the tracker erased, and where it came from: the oldest keyframe that still observed it
-// (its timestamp, the keypoint there), so that a benchmark can tell from ground-truth masks whether
-// it was made on a moving object.
+// A landmark the tracker erased, and where it came from (the oldest keyframe that still observed
+// it), so that a benchmark can tell from ground-truth masks whether it was made on a moving object.
 struct ErasedLandmark {
   LandmarkSeenMoving seen;
-  bool has_origin = false;
-  double origin_timestamp_s = 0.0;
-  cv::KeyPoint origin_keypoint;
+  LandmarkOrigin origin;
 };
 
 // Of `ids` / `points_in_world` (same length), those a frame at `cam_from_world` observes moving:

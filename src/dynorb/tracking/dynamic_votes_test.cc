@@ -110,7 +110,7 @@ TEST_F(DynamicVotesTracking, ErasesTheLandmarksSeenMovingThreeTimes) {
     const Eigen::Vector2d& px = e.seen.pixel;
     EXPECT_TRUE(grown.contains(cv::Point2d(px.x(), px.y()))) << px.transpose();
     EXPECT_FALSE(map.Read([&](const MapData& m) { return m.HasLandmark(e.seen.id); }));
-    EXPECT_TRUE(e.has_origin);  // Made by a keyframe still in the map.
+    EXPECT_TRUE(e.origin.known);  // Made by a keyframe still in the map.
   }
   // Only the tracker erases here (no mapper, no culling).
   EXPECT_EQ(map.Read([](const MapData& m) { return m.NumLandmarks(); }) + erased.size(), before);

@@ -1,0 +1,68 @@
+#include "map_export.h"
+
+#include <map>
+
+#include "dynorb/core/error.h"
+#include "dynorb/dynamic/pixel.h"
+#include "dynorb/io/rgbd_image_io.h"
+
+namespace dynorb {
+
+std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landmarks,
+                                       const TumSequence& sequence) {
+  std::map<double, size_t> entry_at;  // rgb stamp -> entry
+  for (size_t i = 0; i < sequence.entries().size(); ++i)
+    entry_at.emplace(sequence.entries()[i].rgb_timestamp_s, i);
+  std::map<double, cv::Mat> images;  // Several landmarks share one keyframe: decode it once.
+  std::vector<cv::Vec3b> colours(landmarks.size(), cv::Vec3b(128, 128, 128));
+  for (size_t i = 0; i < landmarks.size(); ++i) {
+    const LandmarkOrigin& origin = landmarks[i].origin;
+    if (!origin.known) continue;
+    auto image = images.find(origin.timestamp_s);
+    if (image == images.end()) {
+      // Keyframe stamps are the entries' rgb stamps; allow for a rounding difference.
+      cv::Mat bgr;
+      auto entry = entry_at.lower_bound(origin.timestamp_s - 1e-6);
+      if (entry != entry_at.end() && entry->first <= origin.timestamp_s + 1e-6)
+        bgr = LoadColorImage(sequence.ResolvePath(sequence.entries()[entry->second].rgb_path));
+      image = images.emplace(origin.timestamp_s, bgr).first;
+    }
+    const cv::Mat& bgr = image->second;
+    if (bgr.empty()) continue;
+    const cv::Vec3b c = bgr.at<cv::Vec3b>(NearestPixel(origin.keypoint.pt, bgr.size()));
+    colours[i] = cv::Vec3b(c[2], c[1], c[0]);
+  }
+  return colours;
+}
+
+PointCloud MapPointCloud(const std::vector<LandmarkSummary>& landmarks,
+                         const std::vector<cv::Vec3b>& colours,
+                         const std::vector<uint8_t>& on_dynamic_object) {
+  if (colours.size() != landmarks.size() ||
+      (!on_dynamic_object.empty() && on_dynamic_object.size() != landmarks.size())) {
+    throw std::logic_error("MapPointCloud: one colour (and flag) per landmark expected");
+  }
+  PointCloud cloud;
+  cloud.points.reserve(landmarks.size());
+  for (const LandmarkSummary& l : landmarks) cloud.points.push_back(l.point_in_world.cast<float>());
+  cloud.rgb = colours;
+  if (!on_dynamic_object.empty()) cloud.flags.emplace_back("on_dynamic_object", on_dynamic_object);
+  return cloud;
+}
+
+nlohmann::json MapTruthJson(const OriginTruth& truth, size_t num_landmarks) {
+  return {
+      {"landmarks", num_landmarks},
+      {"origin_known", truth.with_origin},
+      {"made_on_dynamic_objects", truth.made_on_objects},
+      {"fraction", truth.with_origin > 0
+                       ? static_cast<double>(truth.made_on_objects) / truth.with_origin
+                       : 0.0},
+      {"definition",
+       "landmarks of the final map whose keypoint in their oldest observing keyframe "
+       "(origin_known: "
+       "that keyframe is still in the map and has a ground-truth mask) lay on a dynamic object of "
+       "the masks (moving at that frame or not)"}};
+}
+
+}  // namespace dynorb
