@@ -169,6 +169,7 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
   j["pipeline_depth"] = plan.suite.pipeline_depth;
   j["front_end_threads"] = plan.suite.front_end_threads;
   j["preload"] = plan.suite.preload;
+  j["save_map"] = plan.suite.save_map;
   j["sequences"] = nlohmann::json::array();
   for (const BenchSequenceRun& s : plan.sequences) {
     j["sequences"].push_back({{"name", s.name},
@@ -345,8 +346,8 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
         {"sequence", seq.name},        {"mode", run.mode->label},
         {"mode_name", run.mode->name}, {"seed", run.seed},
         {"repeat", run.repeat},        {"dir", fs::relative(run.out_dir, out).string()}};
-    // Resume only results of this very executable; an older build's (or an unreadable
-    // stats.json) are run again.
+    // Resume only results of this very executable (and with map.ply when the suite asks for it);
+    // an older build's (or an unreadable stats.json) are run again.
     nlohmann::json previous;
     if (fs::exists(stats_path)) {
       std::ifstream in(stats_path);
@@ -355,7 +356,8 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
     const auto id = previous.is_object() ? previous.find("build_id") : previous.end();
     const bool same_build = BuildId() != kUnknownBuildId && previous.is_object() && id != previous.end() &&
                             id->is_string() && id->get<std::string>() == BuildId();
-    if (same_build) {
+    const bool complete = !plan.suite.save_map || fs::exists(fs::path(run.out_dir) / "map.ply");
+    if (same_build && complete) {
       entry["status"] = "ok";
       entry["resumed"] = true;
       entry["stats"] = std::move(previous);
@@ -372,6 +374,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       request.pipeline_depth = plan.suite.pipeline_depth;
       request.front_end_threads = plan.suite.front_end_threads;
       request.preload = plan.suite.preload;
+      request.save_map = plan.suite.save_map;
       request.seed = run.seed;
       request.frames = seq.frames;
       request.models = options.models;

@@ -313,6 +313,19 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
                   Path({"tracked_fraction"}, 100.0), 1));
   r.tables.push_back(MetricTable(runs, names, "lost", "Lost episodes", "Times tracking was lost.",
                                  Path({"lost_episodes"}), 0));
+  const Metric map_dynamic = Path({"map_landmarks_on_dynamic_objects", "fraction"}, 100.0);
+  bool any_map_truth = false;  // Only sequences with masks have it: no table of dashes otherwise.
+  for (const std::string& s : names.sequences)
+    for (const std::string& m : names.modes) any_map_truth |= !runs.List(s, m, map_dynamic).empty();
+  if (any_map_truth)
+    r.tables.push_back(
+        MetricTable(runs, names, "map_dynamic", "Map landmarks made on dynamic objects [%]",
+                    "Of the final map's landmarks, the share whose keypoint in their oldest "
+                    "observing keyframe lay on a "
+                    "dynamic object of the ground-truth masks (moving at that frame or not): what "
+                    "each mode let into the "
+                    "map (stats.json map_landmarks_on_dynamic_objects; sequences with masks).",
+                    map_dynamic, 1));
   r.tables.push_back(
       MetricTable(runs, names, "ms", "Time per frame [ms] (mean)",
                   "Time the caller waited per frame (timing_ms.frame_total: feature extraction, filter, "

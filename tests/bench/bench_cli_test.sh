@@ -155,6 +155,7 @@ name: tiny
 repeats: 1
 preload: true
 front_end_threads: 2
+save_map: true
 sequences:
   - {name: syn, synthetic: {preset: walking_xyz, seed: 3, frames: 14, static_twin: true}}
 modes:
@@ -168,7 +169,7 @@ grep -qF "mode 'mystery' is not registered" "$DIR/run1.err" || fail "no warning 
 grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run1.txt" || fail "run 1 summary: $(cat "$DIR/run1.txt")"
 for f in results.json report.md report.html plots/syn__plain.png plots/syn__plain.svg plots/syn_twin__plain.png \
   plots/syn__plain_keypoints.png runs/syn/plain/seed1/stats.json runs/syn_twin/plain/seed1/trajectory.txt \
-  cache/walking_xyz_s3_f14/rgb.txt cache/walking_xyz_s3_f14_twin/rgb.txt; do
+  runs/syn/plain/seed1/map.ply runs/syn_twin/plain/seed1/map.ply cache/walking_xyz_s3_f14/rgb.txt cache/walking_xyz_s3_f14_twin/rgb.txt; do
   [[ -s "$OUT/$f" ]] || fail "run 1 did not write $f"
 done
 [[ ! -e "$OUT/runs/syn/plain/seed1/overlays" ]] || fail "overlay frames left behind"
@@ -181,7 +182,11 @@ for run in r["runs"]:
     assert run["status"] == "ok" and s["frames"] == 14, run
     assert s["ate"]["rmse_m"] >= 0 and "frame_total" in s["timing_ms"]
     assert s["preload"] is True and s["preload_seconds"] > 0, s.get("preload")  # the suite's preload: true
-assert r["suite"]["preload"] is True
+assert r["suite"]["preload"] is True and r["suite"]["save_map"] is True
+for run in r["runs"]:  # the map's landmarks against the masks (the twin's masks are empty)
+    m = run["stats"]["map_landmarks_on_dynamic_objects"]
+    assert m["landmarks"] == run["stats"]["landmarks"] and 0 <= m["made_on_dynamic_objects"] <= m["origin_known"], m
+    assert run["sequence"] != "syn_twin" or m["made_on_dynamic_objects"] == 0, m
 assert "dynamic_keypoints" in r["runs"][0]["stats"]
 EOF
 /usr/bin/python3 - "$OUT/runs/syn/plain/seed1/frames.csv" "$OUT/runs/syn/plain/seed1/stats.json" <<'EOF' || fail "frames.csv content"
@@ -207,6 +212,8 @@ assert sum(int(r["new_landmarks_on_movers"]) for r in rows) == l["on_moving_obje
 assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone seeds hundreds
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
+grep -qF "## Map landmarks made on dynamic objects [%]" "$OUT/report.md" || fail "tiny report has no map table"
+grep -qF "## Map landmarks made on dynamic objects" "$MD" && fail "a report without map stats has a map table"
 grep -qF "run mode sequential, pipeline on (depth 4)," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
 grep -qF "pipeline on (depth 4), 2 front-end threads, frames preloaded (live-camera timing)," "$OUT/report.md" ||
   fail "tiny report does not say the frames were preloaded on 2 front-end threads"
@@ -243,10 +250,14 @@ done
 /usr/bin/python3 "$SRC/scripts/demo_table.py" "$DIR/demo" >"$DIR/demo_table.txt" || fail "demo_table.py: $(cat "$DIR/demo_table.txt")"
 /usr/bin/python3 - "$DIR/fastrun/stats.json" "$DIR/demo_table.txt" <<'EOF' || fail "demo table: $(cat "$DIR/demo_table.txt")"
 import json, sys
-now = json.load(open(sys.argv[1]))["dynamic_keypoints"]["moving_now"]
+fast = json.load(open(sys.argv[1]))
+now = fast["dynamic_keypoints"]["moving_now"]
 rows = {tuple(l.split()[:2]): l.split() for l in open(sys.argv[2]).read().splitlines()[2:]}
-assert rows[("fast", "dynamic")][-3:] == ["%.2f" % now["recall"], "%.2f" % now["precision"], "%.2f" % now["support"]["precision"]], rows
-assert rows[("plain", "dynamic")][-3:] == ["-", "-", "-"] and rows[("plain", "twin")][-3:] == ["-", "-", "-"], rows
+assert rows[("fast", "dynamic")][-4:-1] == ["%.2f" % now["recall"], "%.2f" % now["precision"], "%.2f" % now["support"]["precision"]], rows
+assert rows[("plain", "dynamic")][-4:-1] == ["-", "-", "-"] and rows[("plain", "twin")][-4:-1] == ["-", "-", "-"], rows
+# The last column: the share of the final map's landmarks made on dynamic objects.
+assert rows[("fast", "dynamic")][-1] == "%.1f%%" % (100 * fast["map_landmarks_on_dynamic_objects"]["fraction"]), rows
+assert rows[("plain", "twin")][-1] == "0.0%", rows
 # Speed is compared with plain on the same sequence: both plain rows are 1.00x.
 assert "1.00x" in rows[("plain", "twin")] and "1.00x" in rows[("plain", "dynamic")], rows
 EOF
@@ -463,6 +474,11 @@ grep -qF "runs: 4 (2 resumed, 0 failed)" "$DIR/run2.txt" || fail "run 2 summary:
 rm "$OUT/runs/syn_twin/plain/seed2/stats.json"
 run_bench --repeats 2 >"$DIR/run3.txt" 2>&1 || fail "run 3"
 grep -qF "runs: 4 (3 resumed, 0 failed)" "$DIR/run3.txt" || fail "run 3 summary: $(cat "$DIR/run3.txt")"
+# A run whose map.ply is missing while the suite asks for maps is redone.
+rm "$OUT/runs/syn/plain/seed2/map.ply"
+run_bench --repeats 2 >"$DIR/run3m.txt" 2>&1 || fail "run 3m"
+grep -qF "runs: 4 (3 resumed, 0 failed)" "$DIR/run3m.txt" || fail "run 3m summary: $(cat "$DIR/run3m.txt")"
+[[ -s "$OUT/runs/syn/plain/seed2/map.ply" ]] || fail "the lost map.ply was not written again"
 # A real interruption: SIGTERM while the seed-3 run of the first sequence is under way.
 run_bench --repeats 3 >/dev/null 2>&1 &
 pid=$!

@@ -140,7 +140,7 @@ class Parser {
     if (!root || root.IsNull()) throw InputError(source_ + ": empty suite file");
     CheckKeys(root,
               {"name", "description", "repeats", "seeds", "run_mode", "pipeline", "pipeline_depth",
-               "front_end_threads", "preload", "sequences", "modes"},
+               "front_end_threads", "preload", "save_map", "sequences", "modes"},
               "the suite");
     BenchSuite suite;
     suite.file = source_;
@@ -172,6 +172,7 @@ class Parser {
         Fail(root["front_end_threads"], "'front_end_threads' must be 0 (auto), 1 or 2");
     }
     if (root["preload"]) suite.preload = Bool(root["preload"], "preload");
+    if (root["save_map"]) suite.save_map = Bool(root["save_map"], "save_map");
     const YAML::Node seqs = root["sequences"];
     if (!seqs || !seqs.IsSequence() || seqs.size() == 0) {
       Fail(seqs ? seqs : root, "the suite needs a non-empty list 'sequences'");

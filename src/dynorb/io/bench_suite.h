@@ -76,6 +76,7 @@ struct BenchSuite {
   int pipeline_depth = 4;  // `dynorb run --pipeline-depth` (same default), 1..kMaxPipelineDepth.
   int front_end_threads = 0;  // `dynorb run --front-end-threads` (same default): 0 (auto), 1 or 2.
   bool preload = false;  // `dynorb run --preload`: frames decoded before each run (live-camera timing).
+  bool save_map = false;  // `dynorb run --save-map`: each run's final map as map.ply.
   std::vector<BenchSequence> sequences;
   std::vector<BenchMode> modes;
 

@@ -116,6 +116,10 @@ TEST(BenchSuite, ExplicitSeeds) {
           .front_end_threads,
       2);
   EXPECT_FALSE(suite.preload);  // `dynorb run`'s default: frames decoded while the run goes.
+  EXPECT_FALSE(suite.save_map);
+  EXPECT_TRUE(ParseBenchSuite("save_map: true\nsequences: [{name: a, path: x}]\nmodes: [plain]\n",
+                              "s.yaml", ".")
+                  .save_map);
   EXPECT_TRUE(ParseBenchSuite("preload: true\nsequences: [{name: a, path: x}]\nmodes: [plain]\n", "s.yaml", ".")
                   .preload);
 }
