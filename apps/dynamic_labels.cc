@@ -104,7 +104,7 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
 OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
                             const MaskGroundTruth& masks) {
   OriginTruth truth;
-  truth.on_object.assign(origins.size(), 0);
+  truth.object_id.assign(origins.size(), 0);
   std::map<double, cv::Mat> by_stamp;  // Several landmarks often come from one keyframe.
   for (size_t i = 0; i < origins.size(); ++i) {
     const LandmarkOrigin& o = origins[i];
@@ -115,8 +115,11 @@ OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
     const cv::Mat& mask = it->second;
     if (mask.empty()) continue;
     ++truth.with_origin;
-    truth.on_object[i] = mask.at<uint8_t>(NearestPixel(o.keypoint.pt, mask.size())) != 0 ? 1 : 0;
-    truth.made_on_objects += truth.on_object[i];
+    const uint8_t id = mask.at<uint8_t>(NearestPixel(o.keypoint.pt, mask.size()));
+    truth.object_id[i] = id;
+    if (id == 0) continue;
+    ++truth.made_on_objects;
+    ++truth.by_object[id];
   }
   return truth;
 }

@@ -3,6 +3,7 @@
 // the keypoints a mode labels dynamic, and the overlay images of --save-overlays.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -95,11 +96,13 @@ KeypointsOnObjects CountOnObjects(const std::vector<cv::KeyPoint>& keypoints, co
 
 // Of landmark origins (LandmarkOrigin, landmark_summary.h), those known and with a mask at their
 // stamp (with_origin) and, of them, those whose keypoint at the origin lay (centre pixel) on an
-// object of the masks (made_on_objects; on_object[i] = 1 for them, one entry per origin).
+// object of the masks (made_on_objects). object_id[i]: that object's id in the mask (0: none, or
+// not judged), one entry per origin; by_object: the count per id.
 struct OriginTruth {
   long long with_origin = 0;
   long long made_on_objects = 0;
-  std::vector<uint8_t> on_object;
+  std::vector<uint8_t> object_id;
+  std::map<int, long long> by_object;
 };
 OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
                             const MaskGroundTruth& masks);

@@ -175,11 +175,12 @@ TEST(ClassifyErasedLandmarks, ByTheMaskAtTheirOrigin) {
       *masks);
   EXPECT_EQ(truth.with_origin, 4);
   EXPECT_EQ(truth.made_on_objects, 2);  // (50, 50) and (59.4, 40) at stamp 1.0
-  EXPECT_EQ(truth.on_object, (std::vector<uint8_t>{1, 0, 0, 0, 1}));
+  EXPECT_EQ(truth.object_id, (std::vector<uint8_t>{3, 0, 0, 0, 3}));  // the mask's value: 3
+  EXPECT_EQ(truth.by_object, (std::map<int, long long>{{3, 2}}));
   // A stamp without a mask is not judged.
   const OriginTruth later = ClassifyErasedLandmarks({erased(3.0, 50, 50, true)}, *masks);
   EXPECT_EQ(later.with_origin, 0);
-  EXPECT_EQ(later.on_object, (std::vector<uint8_t>{0}));
+  EXPECT_EQ(later.object_id, (std::vector<uint8_t>{0}));
 }
 
 }  // namespace

@@ -37,24 +37,27 @@ std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landm
 
 PointCloud MapPointCloud(const std::vector<LandmarkSummary>& landmarks,
                          const std::vector<cv::Vec3b>& colours,
-                         const std::vector<uint8_t>& on_dynamic_object) {
+                         const std::vector<uint8_t>& dynamic_object_id) {
   if (colours.size() != landmarks.size() ||
-      (!on_dynamic_object.empty() && on_dynamic_object.size() != landmarks.size())) {
+      (!dynamic_object_id.empty() && dynamic_object_id.size() != landmarks.size())) {
     throw std::logic_error("MapPointCloud: one colour (and flag) per landmark expected");
   }
   PointCloud cloud;
   cloud.points.reserve(landmarks.size());
   for (const LandmarkSummary& l : landmarks) cloud.points.push_back(l.point_in_world.cast<float>());
   cloud.rgb = colours;
-  if (!on_dynamic_object.empty()) cloud.flags.emplace_back("on_dynamic_object", on_dynamic_object);
+  if (!dynamic_object_id.empty()) cloud.flags.emplace_back("dynamic_object_id", dynamic_object_id);
   return cloud;
 }
 
 nlohmann::json MapTruthJson(const OriginTruth& truth, size_t num_landmarks) {
+  nlohmann::json by_object = nlohmann::json::object();
+  for (const auto& [id, count] : truth.by_object) by_object[std::to_string(id)] = count;
   return {
       {"landmarks", num_landmarks},
       {"origin_known", truth.with_origin},
       {"made_on_dynamic_objects", truth.made_on_objects},
+      {"by_object", by_object},
       {"fraction", truth.with_origin > 0
                        ? static_cast<double>(truth.made_on_objects) / truth.with_origin
                        : 0.0},
@@ -62,7 +65,9 @@ nlohmann::json MapTruthJson(const OriginTruth& truth, size_t num_landmarks) {
        "landmarks of the final map whose keypoint in their oldest observing keyframe "
        "(origin_known: "
        "that keyframe is still in the map and has a ground-truth mask) lay on a dynamic object of "
-       "the masks (moving at that frame or not)"}};
+       "the masks (moving at that frame or not); by_object: per id of the masks (synthetic "
+       "sequences: "
+       "1-3 people, 4 the pushed box, 5 the desk item)"}};
 }
 
 }  // namespace dynorb

@@ -22,11 +22,11 @@ namespace dynorb {
 std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landmarks,
                                        const TumSequence& sequence);
 
-// The landmarks as a point cloud (world frame); with `on_dynamic_object` (one value per landmark,
-// or empty for none) as an extra per-point property of that name.
+// The landmarks as a point cloud (world frame); with `dynamic_object_id` (one value per landmark,
+// OriginTruth::object_id; or empty for none) as an extra per-point property of that name.
 PointCloud MapPointCloud(const std::vector<LandmarkSummary>& landmarks,
                          const std::vector<cv::Vec3b>& colours,
-                         const std::vector<uint8_t>& on_dynamic_object);
+                         const std::vector<uint8_t>& dynamic_object_id);
 
 // stats.json's `map_landmarks_on_dynamic_objects` from the check of every landmark's origin.
 nlohmann::json MapTruthJson(const OriginTruth& truth, size_t num_landmarks);

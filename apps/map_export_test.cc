@@ -58,7 +58,7 @@ TEST(MapExport, ColoursComeFromTheOriginKeyframesImageAtTheKeypoint) {
   ASSERT_EQ(cloud.points.size(), landmarks.size());
   EXPECT_EQ(cloud.points[2], Eigen::Vector3f(0.3f, 0.6f, 1.f));
   ASSERT_EQ(cloud.flags.size(), 1u);
-  EXPECT_EQ(cloud.flags[0].first, "on_dynamic_object");
+  EXPECT_EQ(cloud.flags[0].first, "dynamic_object_id");
   EXPECT_TRUE(MapPointCloud(landmarks, c, {}).flags.empty());
   EXPECT_THROW(MapPointCloud(landmarks, {}, {}), std::logic_error);
 }
@@ -67,10 +67,12 @@ TEST(MapExport, TruthJsonCountsAndFraction) {
   OriginTruth truth;
   truth.with_origin = 8;
   truth.made_on_objects = 2;
+  truth.by_object = {{1, 1}, {4, 1}};
   const nlohmann::json j = MapTruthJson(truth, 10);
   EXPECT_EQ(j["landmarks"], 10);
   EXPECT_EQ(j["origin_known"], 8);
   EXPECT_EQ(j["made_on_dynamic_objects"], 2);
+  EXPECT_EQ(j["by_object"], (nlohmann::json{{"1", 1}, {"4", 1}}));
   EXPECT_DOUBLE_EQ(j["fraction"].get<double>(), 0.25);
   EXPECT_DOUBLE_EQ(MapTruthJson(OriginTruth(), 0)["fraction"].get<double>(), 0.0);
 }

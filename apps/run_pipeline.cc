@@ -514,19 +514,19 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   // any output is written, so a failure leaves none).
   const std::vector<LandmarkSummary> map_landmarks =
       system.map().Read([](const MapData& map) { return SummarizeLandmarks(map); });
-  std::vector<uint8_t> on_dynamic_object;
+  std::vector<uint8_t> dynamic_object_id;
   if (masks) {
     std::vector<LandmarkOrigin> origins;
     origins.reserve(map_landmarks.size());
     for (const LandmarkSummary& l : map_landmarks) origins.push_back(l.origin);
     OriginTruth truth = ClassifyOrigins(origins, *masks);
     stats["map_landmarks_on_dynamic_objects"] = MapTruthJson(truth, map_landmarks.size());
-    on_dynamic_object = std::move(truth.on_object);
+    dynamic_object_id = std::move(truth.object_id);
   }
   std::optional<PointCloud> map_cloud;
   if (cli.save_map)
     map_cloud =
-        MapPointCloud(map_landmarks, LandmarkColours(map_landmarks, sequence), on_dynamic_object);
+        MapPointCloud(map_landmarks, LandmarkColours(map_landmarks, sequence), dynamic_object_id);
 
   if (map_cloud) WritePlyPointCloud((fs::path(cli.out) / "map.ply").string(), *map_cloud);
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);

@@ -73,13 +73,15 @@ end = data.index(b"end_header\n") + len(b"end_header\n")
 header = data[:end].decode().splitlines()
 n = int([l for l in header if l.startswith("element vertex")][0].split()[2])
 props = [l.split()[2] for l in header if l.startswith("property")]
-assert props == ["x", "y", "z", "red", "green", "blue", "on_dynamic_object"], props
+assert props == ["x", "y", "z", "red", "green", "blue", "dynamic_object_id"], props
 assert n == stats["landmarks"] == stats["map_landmarks_on_dynamic_objects"]["landmarks"] > 100, (n, stats["landmarks"])
 stride = 16
 assert len(data) - end == n * stride
 rows = [data[end + i * stride:end + (i + 1) * stride] for i in range(n)]
-flagged = sum(r[15] for r in rows)
-assert flagged == stats["map_landmarks_on_dynamic_objects"]["made_on_dynamic_objects"], flagged
+m = stats["map_landmarks_on_dynamic_objects"]
+ids = [r[15] for r in rows]
+assert sum(i > 0 for i in ids) == m["made_on_dynamic_objects"], ids
+assert {str(i): ids.count(i) for i in set(ids) if i} == m["by_object"], (m["by_object"], ids)
 assert len({r[12:15] for r in rows}) > 20, "colours look constant"
 zs = [struct.unpack("<f", r[8:12])[0] for r in rows]
 assert all(abs(z) < 50 for z in zs)

@@ -2,7 +2,7 @@
 // Open3D and Blender open: `dynorb run --save-map` writes the map's landmarks this way.
 //
 // Vertex properties, in this order: float x, y, z (metres, world frame); uchar red, green, blue;
-// then one uchar property per entry of `flags` (named by the caller, e.g. "on_dynamic_object").
+// then one uchar property per entry of `flags` (named by the caller, e.g. "dynamic_object_id").
 #pragma once
 
 #include <Eigen/Core>

@@ -23,7 +23,7 @@ PointCloud ThreePoints() {
   PointCloud c;
   c.points = {{1.5f, -2.25f, 0.125f}, {0.f, 0.f, 3.f}, {-1e-3f, 42.f, 7.75f}};
   c.rgb = {{255, 0, 10}, {1, 2, 3}, {128, 64, 32}};
-  c.flags.push_back({"on_dynamic_object", {1, 0, 0}});
+  c.flags.push_back({"dynamic_object_id", {1, 0, 0}});
   return c;
 }
 
@@ -36,7 +36,7 @@ TEST_F(PointCloudIoTest, RoundTripsExactlyWithAStandardHeader) {
       "ply\nformat binary_little_endian 1.0\ncomment written by dynorb\nelement vertex 3\n"
       "property float x\nproperty float y\nproperty float z\n"
       "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-      "property uchar on_dynamic_object\nend_header\n";
+      "property uchar dynamic_object_id\nend_header\n";
   ASSERT_EQ(bytes.substr(0, header.size()), header);
   ASSERT_EQ(bytes.size(), header.size() + 3 * 16);
   // 1.5f = 0x3FC00000, little-endian first.
@@ -50,7 +50,7 @@ TEST_F(PointCloudIoTest, RoundTripsExactlyWithAStandardHeader) {
     EXPECT_EQ(back.rgb[i], want.rgb[i]) << i;
   }
   ASSERT_EQ(back.flags.size(), 1u);
-  EXPECT_EQ(back.flags[0].first, "on_dynamic_object");
+  EXPECT_EQ(back.flags[0].first, "dynamic_object_id");
   EXPECT_EQ(back.flags[0].second, want.flags[0].second);
 }
 
