@@ -320,10 +320,9 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
   if (any_map_truth)
     r.tables.push_back(
         MetricTable(runs, names, "map_dynamic", "Map landmarks made on dynamic objects [%]",
-                    "Of the final map's landmarks, the share whose keypoint in their oldest "
-                    "observing keyframe lay on a "
-                    "dynamic object of the ground-truth masks (moving at that frame or not): what "
-                    "each mode let into the "
+                    "Of the final map's landmarks whose oldest observing keyframe has a "
+                    "ground-truth mask (nearly all), the share whose keypoint there lay on a "
+                    "dynamic object (moving at that frame or not): what each mode let into the "
                     "map (stats.json map_landmarks_on_dynamic_objects; sequences with masks).",
                     map_dynamic, 1));
   r.tables.push_back(

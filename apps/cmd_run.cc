@@ -55,10 +55,8 @@ const bool kRegistered = RegisterCommand("run", 10, [](CLI::App& app) {
   cmd->add_flag(
       "--save-map", cli->save_map,
       "Also write OUT/map.ply: the final map's landmarks as a coloured point cloud (binary PLY; "
-      "MeshLab, CloudCompare, Open3D), with each point's dynamic_object_id (0: none) when the "
-      "sequence "
-      "has "
-      "ground-truth masks");
+      "MeshLab, CloudCompare, Open3D), with each point's dynamic_object_id (the masks' object id; "
+      "0: none) when the sequence has ground-truth masks");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
     const nlohmann::json stats = RunPipeline(*cli);

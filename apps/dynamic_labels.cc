@@ -105,14 +105,16 @@ OriginTruth ClassifyOrigins(const std::vector<LandmarkOrigin>& origins,
                             const MaskGroundTruth& masks) {
   OriginTruth truth;
   truth.object_id.assign(origins.size(), 0);
-  std::map<double, cv::Mat> by_stamp;  // Several landmarks often come from one keyframe.
-  for (size_t i = 0; i < origins.size(); ++i) {
+  cv::Mat mask;  // Of the stamp being visited: origins come in stamp order, one mask at a time.
+  double mask_stamp = 0.0;
+  bool have_mask = false;
+  for (size_t i : KnownOriginsByStamp(origins)) {
     const LandmarkOrigin& o = origins[i];
-    if (!o.known) continue;
-    auto it = by_stamp.find(o.timestamp_s);
-    if (it == by_stamp.end())
-      it = by_stamp.emplace(o.timestamp_s, masks.MaskAt(o.timestamp_s)).first;
-    const cv::Mat& mask = it->second;
+    if (!have_mask || o.timestamp_s != mask_stamp) {
+      mask = masks.MaskAt(o.timestamp_s);
+      mask_stamp = o.timestamp_s;
+      have_mask = true;
+    }
     if (mask.empty()) continue;
     ++truth.with_origin;
     const uint8_t id = mask.at<uint8_t>(NearestPixel(o.keypoint.pt, mask.size()));

@@ -13,21 +13,24 @@ std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landm
   std::map<double, size_t> entry_at;  // rgb stamp -> entry
   for (size_t i = 0; i < sequence.entries().size(); ++i)
     entry_at.emplace(sequence.entries()[i].rgb_timestamp_s, i);
-  std::map<double, cv::Mat> images;  // Several landmarks share one keyframe: decode it once.
+  std::vector<LandmarkOrigin> origins;
+  origins.reserve(landmarks.size());
+  for (const LandmarkSummary& l : landmarks) origins.push_back(l.origin);
   std::vector<cv::Vec3b> colours(landmarks.size(), cv::Vec3b(128, 128, 128));
-  for (size_t i = 0; i < landmarks.size(); ++i) {
-    const LandmarkOrigin& origin = landmarks[i].origin;
-    if (!origin.known) continue;
-    auto image = images.find(origin.timestamp_s);
-    if (image == images.end()) {
+  cv::Mat bgr;  // Of the stamp being visited: one decoded image at a time.
+  double bgr_stamp = 0.0;
+  bool have_image = false;
+  for (size_t i : KnownOriginsByStamp(origins)) {
+    const LandmarkOrigin& origin = origins[i];
+    if (!have_image || origin.timestamp_s != bgr_stamp) {
       // Keyframe stamps are the entries' rgb stamps; allow for a rounding difference.
-      cv::Mat bgr;
+      bgr.release();
       auto entry = entry_at.lower_bound(origin.timestamp_s - 1e-6);
       if (entry != entry_at.end() && entry->first <= origin.timestamp_s + 1e-6)
         bgr = LoadColorImage(sequence.ResolvePath(sequence.entries()[entry->second].rgb_path));
-      image = images.emplace(origin.timestamp_s, bgr).first;
+      bgr_stamp = origin.timestamp_s;
+      have_image = true;
     }
-    const cv::Mat& bgr = image->second;
     if (bgr.empty()) continue;
     const cv::Vec3b c = bgr.at<cv::Vec3b>(NearestPixel(origin.keypoint.pt, bgr.size()));
     colours[i] = cv::Vec3b(c[2], c[1], c[0]);

@@ -510,8 +510,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     }
   }
 
-  // The final map: its landmarks checked against the masks; with --save-map, map.ply (made before
-  // any output is written, so a failure leaves none).
+  // The final map: its landmarks checked against the masks; with --save-map, map.ply (its colours
+  // read before any output is written).
   const std::vector<LandmarkSummary> map_landmarks =
       system.map().Read([](const MapData& map) { return SummarizeLandmarks(map); });
   std::vector<uint8_t> dynamic_object_id;
@@ -528,11 +528,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     map_cloud =
         MapPointCloud(map_landmarks, LandmarkColours(map_landmarks, sequence), dynamic_object_id);
 
-  if (map_cloud) WritePlyPointCloud((fs::path(cli.out) / "map.ply").string(), *map_cloud);
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
   schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
   WriteFileAtomically((fs::path(cli.out) / "frames.csv").string(), FramesCsv(system.records(), inliers_on_movers, new_landmarks_on_movers));
+  // map.ply next to this run's outputs only: an earlier run's is removed.
+  const fs::path map_path = fs::path(cli.out) / "map.ply";
+  if (map_cloud) {
+    WritePlyPointCloud(map_path.string(), *map_cloud);
+  } else {
+    std::error_code ignored;
+    fs::remove(map_path, ignored);
+  }
   WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
   return stats;
 }

@@ -26,7 +26,7 @@ def main(runs: pathlib.Path) -> int:
     # precision counting an object's outline corners (FAST circle on the object) as its own.
     header = f"{'mode':10} {'sequence':9} {'ATE RMSE [m]':>12} {'ratio to twin':>13} {'tracked':>8} " \
              f"{'ms/frame':>9} {'vs plain (same seq.)':>20} {'moving kp recall':>16} {'precision':>9} " \
-             f"{'w/ outlines':>11} {'map on movers':>13}"
+             f"{'w/ outlines':>11} {'map on objects':>14}"
     print(header)
     print("-" * len(header))
     for (mode, variant), s in sorted(rows.items(), key=lambda kv: (kv[0][1] != "twin", kv[0][0])):
@@ -43,7 +43,7 @@ def main(runs: pathlib.Path) -> int:
         # Share of the final map's landmarks made on a dynamic object (stats.json
         # map_landmarks_on_dynamic_objects; sequences with masks).
         on_map = s.get("map_landmarks_on_dynamic_objects", {}).get("fraction")
-        map_text = f"{100 * on_map:12.1f}%" if on_map is not None else f"{'-':>13}"
+        map_text = f"{100 * on_map:13.1f}%" if on_map is not None else f"{'-':>14}"
         print(f"{mode:10} {variant:9} {ate_text} {ratio} {100 * s['tracked_fraction']:7.1f}% {ms:9.1f} {speed} "
               f"{recall} {precision} {outlines} {map_text}")
     return 0

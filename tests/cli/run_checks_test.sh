@@ -86,6 +86,9 @@ assert len({r[12:15] for r in rows}) > 20, "colours look constant"
 zs = [struct.unpack("<f", r[8:12])[0] for r in rows]
 assert all(abs(z) < 50 for z in zs)
 PYEOF2
+# A later run into the same folder without --save-map leaves no stale map.ply.
+"$DYNORB" run --dataset "$SEQ" --out "$DIR/map" --frames 0:20 --quiet >/dev/null 2>&1 || fail "rerun without --save-map"
+[[ -e "$DIR/map/map.ply" ]] && fail "a stale map.ply was left next to a run without --save-map"
 
 # FAST mode's analysis schedule: every second frame analysed, the key in effect; bad values are
 # one message, exit 2, no output.

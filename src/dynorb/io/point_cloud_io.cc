@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <sstream>
 
 #include "dynorb/core/error.h"
@@ -41,11 +42,10 @@ void WritePlyPointCloud(const std::string& path, const PointCloud& cloud) {
     throw InputError(path + ": " + std::to_string(n) + " points but " +
                      std::to_string(cloud.rgb.size()) + " colours");
   }
+  std::set<std::string> names = {"x", "y", "z", "red", "green", "blue"};
   for (const auto& [name, values] : cloud.flags) {
-    if (!ValidName(name) || name == "x" || name == "y" || name == "z" || name == "red" ||
-        name == "green" || name == "blue") {
-      throw InputError(path + ": bad point property name '" + name + "'");
-    }
+    if (!ValidName(name) || !names.insert(name).second)
+      throw InputError(path + ": bad or repeated point property name '" + name + "'");
     if (values.size() != n) {
       throw InputError(path + ": property '" + name + "' has " + std::to_string(values.size()) +
                        " values for " + std::to_string(n) + " points");
@@ -70,16 +70,21 @@ PointCloud ReadPlyPointCloud(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string end_marker = "end_header\n";
+  const std::string end_marker = "\nend_header\n";
   const size_t end = bytes.find(end_marker);
   if (bytes.compare(0, 4, "ply\n") != 0 || end == std::string::npos)
     throw InputError(path + ": not a PLY file (no 'ply' line or no end_header)");
-  std::istringstream header(bytes.substr(0, end));
+  std::istringstream header(bytes.substr(0, end + 1));
   std::string line;
   std::getline(header, line);  // "ply"
   long long count = -1;
   bool binary_le = false;
   std::vector<std::string> properties;
+  auto refuse = [&path](const std::string& what) {
+    throw InputError(path + ": " + what +
+                     " (dynorb reads its own point clouds: binary_little_endian 1.0, one "
+                     "'element vertex N', float x y z, uchar red green blue, more uchars)");
+  };
   while (std::getline(header, line)) {
     std::istringstream words(line);
     std::string keyword;
@@ -87,36 +92,39 @@ PointCloud ReadPlyPointCloud(const std::string& path) {
     if (keyword == "format") {
       std::string format, version;
       words >> format >> version;
-      binary_le = format == "binary_little_endian";
+      binary_le = format == "binary_little_endian" && version == "1.0";
     } else if (keyword == "element") {
       std::string name;
-      words >> name >> count;
-      if (name != "vertex" || !words || count < 0)
-        throw InputError(path + ": expected one 'element vertex N', got '" + line + "'");
+      long long n = -1;
+      words >> name >> n;
+      if (name != "vertex" || !words || n < 0 || count >= 0 || !properties.empty())
+        refuse("unexpected '" + line + "'");
+      count = n;
     } else if (keyword == "property") {
       std::string type, name;
       words >> type >> name;
       const bool position = properties.size() < 3;
-      if (type != (position ? "float" : "uchar"))
-        throw InputError(path + ": unexpected property '" + line +
-                         "' (dynorb writes float x y z, then uchars)");
+      if (count < 0 || type != (position ? "float" : "uchar") || !ValidName(name) ||
+          std::find(properties.begin(), properties.end(), name) != properties.end()) {
+        refuse("unexpected '" + line + "'");
+      }
       properties.push_back(name);
     } else if (keyword != "comment" && !keyword.empty()) {
-      throw InputError(path + ": unexpected header line '" + line + "'");
+      refuse("unexpected header line '" + line + "'");
     }
   }
   const std::vector<std::string> fixed = {"x", "y", "z", "red", "green", "blue"};
   if (!binary_le || count < 0 || properties.size() < fixed.size() ||
       !std::equal(fixed.begin(), fixed.end(), properties.begin())) {
-    throw InputError(
-        path + ": not a dynorb point cloud (binary_little_endian, vertex x y z red green blue)");
+    refuse("not a dynorb point cloud");
   }
   const size_t stride = 12 + (properties.size() - 3);
   const size_t body = end + end_marker.size();
-  if (bytes.size() - body != stride * static_cast<size_t>(count)) {
-    throw InputError(path + ": " + std::to_string(bytes.size() - body) + " data bytes, expected " +
-                     std::to_string(stride * static_cast<size_t>(count)) + " for " +
-                     std::to_string(count) + " points");
+  const size_t available = bytes.size() - body;
+  // Divided, not multiplied: a huge vertex count must not wrap around.
+  if (available % stride != 0 || available / stride != static_cast<unsigned long long>(count)) {
+    throw InputError(path + ": " + std::to_string(available) + " data bytes do not hold " +
+                     std::to_string(count) + " points of " + std::to_string(stride) + " bytes");
   }
   PointCloud cloud;
   for (size_t p = 6; p < properties.size(); ++p)

@@ -73,6 +73,9 @@ TEST_F(PointCloudIoTest, BadCloudsAreRefusedAndLeaveNoFile) {
   EXPECT_THROW(WritePlyPointCloud(path, c), InputError);
   c.flags[0].first = "red";
   EXPECT_THROW(WritePlyPointCloud(path, c), InputError);
+  c.flags[0].first = "a";
+  c.flags.push_back({"a", {0, 0, 0}});
+  EXPECT_THROW(WritePlyPointCloud(path, c), InputError);
   EXPECT_FALSE(fs::exists(path));
   EXPECT_THROW(WritePlyPointCloud((dir_ / "no_such_dir" / "m.ply").string(), ThreePoints()),
                InputError);
@@ -99,6 +102,24 @@ TEST_F(PointCloudIoTest, ForeignOrDamagedFilesAreRefusedWithTheirName) {
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   bytes.pop_back();
   EXPECT_THROW(ReadPlyPointCloud(Write("cut2.ply", bytes)), InputError);
+  // A vertex count whose byte size wraps around 2^64 (2^60 points of 16 bytes, no data).
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1152921504606846976\nproperty float x\n"
+      "property float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty "
+      "uchar blue\n"
+      "property uchar dynamic_object_id\nend_header\n";
+  EXPECT_THROW(ReadPlyPointCloud(Write("huge.ply", header)), InputError);
+  // A second element; a repeated property.
+  EXPECT_THROW(ReadPlyPointCloud(Write("two.ply",
+                                       "ply\nformat binary_little_endian 1.0\nelement vertex 0\n"
+                                       "element vertex 0\nend_header\n")),
+               InputError);
+  std::string repeated = header;
+  repeated.replace(repeated.find("1152921504606846976"), 19, "0");
+  repeated.replace(repeated.find("dynamic_object_id"), 17, "red");
+  EXPECT_THROW(ReadPlyPointCloud(Write("repeated.ply", repeated)), InputError);
+  repeated.replace(repeated.find("property uchar red\nend"), 18, "property uchar ok");
+  EXPECT_NO_THROW(ReadPlyPointCloud(Write("ok.ply", repeated)));
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "dynorb/map/landmark_summary.h"
 
+#include <algorithm>
+
 namespace dynorb {
 
 LandmarkOrigin OriginOf(const MapData& map, const Landmark& landmark) {
@@ -15,6 +17,17 @@ LandmarkOrigin OriginOf(const MapData& map, const Landmark& landmark) {
     break;
   }
   return origin;
+}
+
+std::vector<size_t> KnownOriginsByStamp(const std::vector<LandmarkOrigin>& origins) {
+  std::vector<size_t> order;
+  for (size_t i = 0; i < origins.size(); ++i) {
+    if (origins[i].known) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&origins](size_t a, size_t b) {
+    return origins[a].timestamp_s < origins[b].timestamp_s;
+  });
+  return order;
 }
 
 std::vector<LandmarkSummary> SummarizeLandmarks(const MapData& map) {

@@ -20,6 +20,9 @@ struct LandmarkOrigin {
   cv::KeyPoint keypoint;
 };
 LandmarkOrigin OriginOf(const MapData& map, const Landmark& landmark);
+// The indices of the known origins, ordered by their stamp (ties in index order): visiting them
+// in this order needs one keyframe's image (or mask) at a time.
+std::vector<size_t> KnownOriginsByStamp(const std::vector<LandmarkOrigin>& origins);
 
 struct LandmarkSummary {
   LandmarkId id = kNoLandmark;

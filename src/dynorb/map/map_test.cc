@@ -206,6 +206,17 @@ TEST_F(MapDataTest, SummaryGivesEachLandmarkItsOldestKeyframeStillInTheMap) {
   EXPECT_GT(moved, 0);  // the 1-2 landmarks that kept an observation now come from keyframe 2
 }
 
+TEST(LandmarkSummary, KnownOriginsInStampOrderTiesByIndex) {
+  std::vector<LandmarkOrigin> origins(5);
+  const double stamps[] = {2.0, 1.0, 0.5, 1.0, 3.0};
+  for (int i = 0; i < 5; ++i) {
+    origins[i].known = i != 2;
+    origins[i].timestamp_s = stamps[i];
+  }
+  EXPECT_EQ(KnownOriginsByStamp(origins), (std::vector<size_t>{1, 3, 0, 4}));
+  EXPECT_TRUE(KnownOriginsByStamp({}).empty());
+}
+
 TEST_F(MapDataTest, ReplaceLandmarkMovesObservations) {
   const LandmarkId a = map_.keyframe(ids_[0]).landmarks[0];   // seen by 0, 1
   const LandmarkId b = map_.keyframe(ids_[1]).landmarks[40];  // seen by 1, 2
