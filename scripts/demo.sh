@@ -42,8 +42,10 @@ demo_slam() {
   log "SLAM benchmark: $suite -> $out"
   "$DYNORB" bench --suite "$suite" --out "$out"
   log "results (ATE = TUM absolute trajectory error, SE(3)-aligned; ratio = ATE / ATE of the static twin)"
+  echo "   (map on objects = share of the final map's landmarks made on the people and the moved objects)"
   python3 "$(dirname "$0")/demo_table.py" "$out"
-  DEMO_OUTPUTS+=("$out/report.html" "$out/report.md" "$out/results.json")
+  DEMO_OUTPUTS+=("$out/report.html" "$out/report.md" "$out/results.json"
+    "$out/runs/<sequence>/<mode>/seed1/map.ply (each run's map: MeshLab, CloudCompare, Open3D)")
 }
 
 main() {
