@@ -210,6 +210,18 @@ std::string FormatRunSummary(const nlohmann::json& stats) {
       line, sizeof(line), "map               %d keyframes, %d landmarks, %d loops closed\n",
       stats["keyframes"].get<int>(), stats["landmarks"].get<int>(), stats.value("loops_closed", 0));
   out << line;
+  // With ground-truth masks: the share of the map's landmarks made on dynamic objects.
+  if (stats.contains("map_landmarks_on_dynamic_objects")) {
+    const nlohmann::json& m = stats["map_landmarks_on_dynamic_objects"];
+    if (m.value("origin_known", 0) > 0) {
+      std::snprintf(
+          line, sizeof(line),
+          "map vs masks      %.1f %% of the landmarks made on dynamic objects (%lld of %lld)\n",
+          100.0 * m["fraction"].get<double>(), m["made_on_dynamic_objects"].get<long long>(),
+          m["origin_known"].get<long long>());
+      out << line;
+    }
+  }
   std::snprintf(line, sizeof(line), "time per frame    %.1f ms mean, %.1f ms p95 (%.1f Hz wall)\n",
                 stats["timing_ms"]["frame_total"]["mean"].get<double>(),
                 stats["timing_ms"]["frame_total"]["p95"].get<double>(), stats["wall_hz"].get<double>());

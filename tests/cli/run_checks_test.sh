@@ -64,6 +64,9 @@ grep -qF "has no camera.yaml (use e.g. --config config/tum_fr3.yaml; a folder na
 [[ -e "$DIR/good/map.ply" ]] && fail "map.ply written without --save-map"
 out=$("$DYNORB" run --dataset "$SEQ" --out "$DIR/map" --save-map --quiet 2>&1) || fail "--save-map: exit code $?"
 grep -q 'map.ply}' <<<"$out" || fail "--save-map: the outputs line does not list map.ply: $out"
+made=$(/usr/bin/python3 -c 'import json, sys; m = json.load(open(sys.argv[1]))["map_landmarks_on_dynamic_objects"]
+print("%.1f %% of the landmarks made on dynamic objects (%d of %d)" % (100 * m["fraction"], m["made_on_dynamic_objects"], m["origin_known"]))' "$DIR/map/stats.json")
+grep -qF "map vs masks      $made" <<<"$out" || fail "--save-map: no 'map vs masks' line '$made' in: $out"
 /usr/bin/python3 - "$DIR/map" <<'PYEOF2' || fail "--save-map: map.ply does not match stats.json"
 import json, struct, sys
 d = sys.argv[1]
