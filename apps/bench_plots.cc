@@ -10,6 +10,7 @@
 #include "dynorb/eval/evaluate.h"
 #include "dynorb/eval/plot.h"
 #include "dynorb/io/atomic_file.h"
+#include "dynorb/io/point_cloud_io.h"
 #include "dynorb/io/trajectory_io.h"
 
 namespace dynorb {
@@ -43,6 +44,87 @@ bool WriteTrajectoryPlot(const std::string& dataset, const std::string& run_dir,
     return true;
   } catch (const std::exception&) {
     return false;  // e.g. no overlap with the ground truth: the report shows the run without a plot
+  }
+}
+
+bool WriteMapView(const std::string& run_dir, const std::string& path, const std::string& title) {
+  const fs::path ply = fs::path(run_dir) / "map.ply",
+                 keyframes = fs::path(run_dir) / "keyframes.txt";
+  if (!fs::exists(ply) || !fs::exists(keyframes)) return false;
+  try {
+    const PointCloud cloud = ReadPlyPointCloud(ply.string());
+    const Trajectory kfs = ReadTumTrajectory(keyframes.string());
+    if (kfs.empty()) return false;
+    const std::vector<uint8_t>* ids = nullptr;
+    for (const auto& [name, values] : cloud.flags) {
+      if (name == "dynamic_object_id") ids = &values;
+    }
+    // The virtual camera: the first keyframe's, moved 1 m back, with a wide field of view.
+    Rigid3d view_from_world = kfs.front().world_from_cam.Inverse();
+    view_from_world.translation += Eigen::Vector3d(0.0, 0.0, 1.0);
+    const int width = 640, height = 480;
+    const double f = 320.0;
+    // Centred on the median direction of the points in front of the camera.
+    std::vector<double> xs, ys;
+    for (const Eigen::Vector3f& q : cloud.points) {
+      const Eigen::Vector3d p = view_from_world * q.cast<double>();
+      if (p.z() < 0.2) continue;
+      xs.push_back(p.x() / p.z());
+      ys.push_back(p.y() / p.z());
+    }
+    auto median = [](std::vector<double> v) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    const double cx = width / 2.0 - f * median(xs), cy = height / 2.0 - f * median(ys);
+    struct Dot {
+      double depth;
+      cv::Point pixel;
+      cv::Vec3b rgb;
+      bool dynamic;
+    };
+    std::vector<Dot> dots;
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+      const Eigen::Vector3d p = view_from_world * cloud.points[i].cast<double>();
+      if (p.z() < 0.2) continue;
+      const cv::Point pixel(static_cast<int>(f * p.x() / p.z() + cx),
+                            static_cast<int>(f * p.y() / p.z() + cy));
+      if (pixel.x < -3 || pixel.y < -3 || pixel.x > width + 3 || pixel.y > height + 3) continue;
+      dots.push_back({p.z(), pixel, cloud.rgb[i], ids != nullptr && (*ids)[i] != 0});
+    }
+    // Far points first, so that near ones are drawn over them.
+    std::sort(dots.begin(), dots.end(),
+              [](const Dot& a, const Dot& b) { return a.depth > b.depth; });
+    cv::Mat colours(height, width, CV_8UC3, cv::Scalar(255, 255, 255)), truth = colours.clone();
+    int on_objects = 0;
+    for (const Dot& d : dots) {
+      const int radius = d.depth < 2.0 ? 3 : 2;
+      cv::circle(colours, d.pixel, radius, cv::Scalar(d.rgb[2], d.rgb[1], d.rgb[0]), cv::FILLED,
+                 cv::LINE_AA);
+      cv::circle(truth, d.pixel, radius,
+                 d.dynamic ? cv::Scalar(0, 0, 230) : cv::Scalar(150, 150, 150), cv::FILLED,
+                 cv::LINE_AA);
+      on_objects += d.dynamic ? 1 : 0;
+    }
+    auto label = [](cv::Mat* image, const std::string& text, int row) {
+      cv::putText(*image, text, cv::Point(8, 20 * row), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                  cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    };
+    label(&colours, title + ": " + std::to_string(cloud.points.size()) + " landmarks", 1);
+    label(&truth,
+          ids == nullptr
+              ? std::string("no ground-truth masks")
+              : "red: made on dynamic objects (" + std::to_string(on_objects) + " in view)",
+          1);
+    cv::Mat both;
+    cv::hconcat(colours, truth, both);
+    std::vector<unsigned char> png;
+    if (!cv::imencode(".png", both, png)) return false;
+    WriteFileAtomically(path, std::string(png.begin(), png.end()));
+    return true;
+  } catch (const std::exception&) {
+    return false;  // an unreadable map: the report shows the run without its picture
   }
 }
 

@@ -17,4 +17,11 @@ bool WriteTrajectoryPlot(const std::string& dataset, const std::string& run_dir,
 // side by side to `path` (PNG) with their file names. Returns false if the folder has no image.
 bool WriteKeypointStrip(const std::string& overlay_dir, const std::string& path, int count = 4);
 
+// A picture of run_dir/map.ply (`dynorb run --save-map`) seen from behind the first keyframe of
+// run_dir/keyframes.txt (1 m back along its optical axis, a wide 640x480 view), two panels: the
+// landmarks in their colours, and the same in grey with those on dynamic objects of the masks
+// (dynamic_object_id != 0) in red. Writes a PNG to `path`; returns false (writes nothing) when the
+// run has no map.ply or no keyframe.
+bool WriteMapView(const std::string& run_dir, const std::string& path, const std::string& title);
+
 }  // namespace dynorb

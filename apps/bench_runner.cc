@@ -403,6 +403,9 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       const std::string stem = (out / "plots" / key).string();
       if (!fs::exists(stem + ".png"))
         WriteTrajectoryPlot(seq.dataset, run.out_dir, stem, seq.name + " / " + run.mode->label);
+      const std::string map_view = (out / "plots" / (key + "_map.png")).string();
+      if (plan.suite.save_map && !fs::exists(map_view))
+        WriteMapView(run.out_dir, map_view, seq.name + " / " + run.mode->label);
       const fs::path overlays = fs::path(run.out_dir) / "overlays";
       if (fs::is_directory(overlays)) {
         WriteKeypointStrip(overlays.string(), (out / "plots" / (key + "_keypoints.png")).string());

@@ -453,6 +453,12 @@ BenchReportContent BuildBenchReport(const Json& results, const Json& published,
              s + " / " + m +
                  " (first seed): top and side view against ground truth, ATE error over time"});
       }
+      if (fs::exists(fs::path(out_dir) / "plots" / (key + "_map.png"))) {
+        r.figures.push_back({"plots/" + key + "_map.png",
+                             s + " / " + m +
+                                 " (first seed): the final map from behind the first keyframe; "
+                                 "right: landmarks made on dynamic objects in red"});
+      }
       if (fs::exists(fs::path(out_dir) / "plots" / (key + "_keypoints.png"))) {
         r.figures.push_back(
             {"plots/" + key + "_keypoints.png",

@@ -169,7 +169,8 @@ grep -qF "mode 'mystery' is not registered" "$DIR/run1.err" || fail "no warning 
 grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run1.txt" || fail "run 1 summary: $(cat "$DIR/run1.txt")"
 for f in results.json report.md report.html plots/syn__plain.png plots/syn__plain.svg plots/syn_twin__plain.png \
   plots/syn__plain_keypoints.png runs/syn/plain/seed1/stats.json runs/syn_twin/plain/seed1/trajectory.txt \
-  runs/syn/plain/seed1/map.ply runs/syn_twin/plain/seed1/map.ply cache/walking_xyz_s3_f14/rgb.txt cache/walking_xyz_s3_f14_twin/rgb.txt; do
+  runs/syn/plain/seed1/map.ply runs/syn_twin/plain/seed1/map.ply plots/syn__plain_map.png \
+  cache/walking_xyz_s3_f14/rgb.txt cache/walking_xyz_s3_f14_twin/rgb.txt; do
   [[ -s "$OUT/$f" ]] || fail "run 1 did not write $f"
 done
 [[ ! -e "$OUT/runs/syn/plain/seed1/overlays" ]] || fail "overlay frames left behind"
@@ -213,6 +214,7 @@ assert l["created"] >= s["landmarks"] * 0 + 100, l  # the first keyframe alone s
 EOF
 grep -qF "## Robustness ratio" "$OUT/report.md" || fail "tiny report has no robustness table"
 grep -qF "## Map landmarks made on dynamic objects [%]" "$OUT/report.md" || fail "tiny report has no map table"
+grep -qF "plots/syn__plain_map.png" "$OUT/report.md" || fail "tiny report does not show the map picture"
 grep -qF "## Map landmarks made on dynamic objects" "$MD" && fail "a report without map stats has a map table"
 grep -qF "run mode sequential, pipeline on (depth 4)," "$OUT/report.md" || fail "tiny report does not say the runs were pipelined"
 grep -qF "pipeline on (depth 4), 2 front-end threads, frames preloaded (live-camera timing)," "$OUT/report.md" ||
