@@ -1,8 +1,8 @@
 #include "map_export.h"
 
 #include <map>
+#include <stdexcept>
 
-#include "dynorb/core/error.h"
 #include "dynorb/dynamic/pixel.h"
 #include "dynorb/io/rgbd_image_io.h"
 
@@ -43,7 +43,7 @@ PointCloud MapPointCloud(const std::vector<LandmarkSummary>& landmarks,
                          const std::vector<uint8_t>& dynamic_object_id) {
   if (colours.size() != landmarks.size() ||
       (!dynamic_object_id.empty() && dynamic_object_id.size() != landmarks.size())) {
-    throw std::logic_error("MapPointCloud: one colour (and flag) per landmark expected");
+    throw std::logic_error("MapPointCloud: one colour (and object id) per landmark expected");
   }
   PointCloud cloud;
   cloud.points.reserve(landmarks.size());
@@ -65,12 +65,10 @@ nlohmann::json MapTruthJson(const OriginTruth& truth, size_t num_landmarks) {
                        ? static_cast<double>(truth.made_on_objects) / truth.with_origin
                        : 0.0},
       {"definition",
-       "landmarks of the final map whose keypoint in their oldest observing keyframe "
-       "(origin_known: "
-       "that keyframe is still in the map and has a ground-truth mask) lay on a dynamic object of "
-       "the masks (moving at that frame or not); by_object: per id of the masks (synthetic "
-       "sequences: "
-       "1-3 people, 4 the pushed box, 5 the desk item)"}};
+       "landmarks of the final map whose keypoint in their oldest observing keyframe lay on a "
+       "dynamic object of the masks (moving at that frame or not), of those whose keyframe has a "
+       "mask (origin_known); by_object: per id of the masks (synthetic sequences: 1-3 people, "
+       "4 the pushed box, 5 the desk item)"}};
 }
 
 }  // namespace dynorb
