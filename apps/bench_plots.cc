@@ -64,34 +64,37 @@ bool WriteMapView(const std::string& run_dir, const std::string& path, const std
     view_from_world.translation += Eigen::Vector3d(0.0, 0.0, 1.0);
     const int width = 640, height = 480;
     const double f = 320.0;
-    // Centred on the median direction of the points in front of the camera.
+    struct Dot {
+      double depth;
+      Eigen::Vector2d direction;  // x/z, y/z in the view
+      cv::Point pixel;
+      cv::Vec3b rgb;
+      bool dynamic;
+    };
+    std::vector<Dot> in_front;
     std::vector<double> xs, ys;
-    for (const Eigen::Vector3f& q : cloud.points) {
-      const Eigen::Vector3d p = view_from_world * q.cast<double>();
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+      const Eigen::Vector3d p = view_from_world * cloud.points[i].cast<double>();
       if (p.z() < 0.2) continue;
-      xs.push_back(p.x() / p.z());
-      ys.push_back(p.y() / p.z());
+      in_front.push_back({p.z(), p.head<2>() / p.z(), cv::Point(), cloud.rgb[i],
+                          ids != nullptr && (*ids)[i] != 0});
+      xs.push_back(in_front.back().direction.x());
+      ys.push_back(in_front.back().direction.y());
     }
+    // Centred on the median direction of the points in front of the camera.
     auto median = [](std::vector<double> v) {
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
       return v[v.size() / 2];
     };
     const double cx = width / 2.0 - f * median(xs), cy = height / 2.0 - f * median(ys);
-    struct Dot {
-      double depth;
-      cv::Point pixel;
-      cv::Vec3b rgb;
-      bool dynamic;
-    };
     std::vector<Dot> dots;
-    for (size_t i = 0; i < cloud.points.size(); ++i) {
-      const Eigen::Vector3d p = view_from_world * cloud.points[i].cast<double>();
-      if (p.z() < 0.2) continue;
-      const cv::Point pixel(static_cast<int>(f * p.x() / p.z() + cx),
-                            static_cast<int>(f * p.y() / p.z() + cy));
-      if (pixel.x < -3 || pixel.y < -3 || pixel.x > width + 3 || pixel.y > height + 3) continue;
-      dots.push_back({p.z(), pixel, cloud.rgb[i], ids != nullptr && (*ids)[i] != 0});
+    for (Dot& d : in_front) {
+      d.pixel = cv::Point(static_cast<int>(f * d.direction.x() + cx),
+                          static_cast<int>(f * d.direction.y() + cy));
+      if (d.pixel.x < -3 || d.pixel.y < -3 || d.pixel.x > width + 3 || d.pixel.y > height + 3)
+        continue;
+      dots.push_back(d);
     }
     // Far points first, so that near ones are drawn over them.
     std::sort(dots.begin(), dots.end(),

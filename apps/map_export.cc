@@ -8,15 +8,12 @@
 
 namespace dynorb {
 
-std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landmarks,
+std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkOrigin>& origins,
                                        const TumSequence& sequence) {
   std::map<double, size_t> entry_at;  // rgb stamp -> entry
   for (size_t i = 0; i < sequence.entries().size(); ++i)
     entry_at.emplace(sequence.entries()[i].rgb_timestamp_s, i);
-  std::vector<LandmarkOrigin> origins;
-  origins.reserve(landmarks.size());
-  for (const LandmarkSummary& l : landmarks) origins.push_back(l.origin);
-  std::vector<cv::Vec3b> colours(landmarks.size(), cv::Vec3b(128, 128, 128));
+  std::vector<cv::Vec3b> colours(origins.size(), cv::Vec3b(128, 128, 128));
   cv::Mat bgr;  // Of the stamp being visited: one decoded image at a time.
   double bgr_stamp = 0.0;
   bool have_image = false;

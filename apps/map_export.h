@@ -16,10 +16,10 @@
 
 namespace dynorb {
 
-// Each landmark's colour (red, green, blue) at its origin keypoint in the sequence's colour image
-// of the origin keyframe; grey (128) when the origin is unknown or not in the sequence. Throws
-// InputError if an image cannot be read.
-std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkSummary>& landmarks,
+// One colour (red, green, blue) per landmark origin (LandmarkSummary::origin): the sequence's
+// colour image of the origin keyframe at its keypoint; grey (128) when the origin is unknown or
+// not in the sequence. Throws InputError if an image cannot be read.
+std::vector<cv::Vec3b> LandmarkColours(const std::vector<LandmarkOrigin>& origins,
                                        const TumSequence& sequence);
 
 // The landmarks as a point cloud (world frame); with `dynamic_object_id` (one value per landmark,

@@ -45,7 +45,9 @@ TEST(MapExport, ColoursComeFromTheOriginKeyframesImageAtTheKeypoint) {
       Landmark(0.4, false, 1.0, 3.f, 2.f),    // origin unknown: grey
       Landmark(0.5, true, 9.0, 3.f, 2.f),     // stamp not in the sequence: grey
       Landmark(0.6, true, 2.0, -4.f, 40.f)};  // off the image: clamped to the nearest pixel, green
-  const std::vector<cv::Vec3b> c = LandmarkColours(landmarks, sequence);
+  std::vector<LandmarkOrigin> origins;
+  for (const LandmarkSummary& l : landmarks) origins.push_back(l.origin);
+  const std::vector<cv::Vec3b> c = LandmarkColours(origins, sequence);
   ASSERT_EQ(c.size(), landmarks.size());
   EXPECT_EQ(c[0], cv::Vec3b(255, 0, 0));  // red, green, blue order
   EXPECT_EQ(c[1], cv::Vec3b(0, 0, 255));

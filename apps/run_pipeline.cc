@@ -514,19 +514,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   // read before any output is written).
   const std::vector<LandmarkSummary> map_landmarks =
       system.map().Read([](const MapData& map) { return SummarizeLandmarks(map); });
+  std::vector<LandmarkOrigin> origins;
+  origins.reserve(map_landmarks.size());
+  for (const LandmarkSummary& l : map_landmarks) origins.push_back(l.origin);
   std::vector<uint8_t> dynamic_object_id;
   if (masks) {
-    std::vector<LandmarkOrigin> origins;
-    origins.reserve(map_landmarks.size());
-    for (const LandmarkSummary& l : map_landmarks) origins.push_back(l.origin);
     OriginTruth truth = ClassifyOrigins(origins, *masks);
     stats["map_landmarks_on_dynamic_objects"] = MapTruthJson(truth, map_landmarks.size());
     dynamic_object_id = std::move(truth.object_id);
   }
   std::optional<PointCloud> map_cloud;
   if (cli.save_map)
-    map_cloud =
-        MapPointCloud(map_landmarks, LandmarkColours(map_landmarks, sequence), dynamic_object_id);
+    map_cloud = MapPointCloud(map_landmarks, LandmarkColours(origins, sequence), dynamic_object_id);
 
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
