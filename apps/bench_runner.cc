@@ -340,8 +340,6 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
     const BenchSequenceRun& seq = *run.sequence;
     const std::string stats_path = (fs::path(run.out_dir) / "stats.json").string();
     const std::string key = seq.name + "__" + run.mode->label;
-    const bool want_strip =
-        options.plots && run.repeat == 0 && !fs::exists(out / "plots" / (key + "_keypoints.png"));
     nlohmann::json entry = {
         {"sequence", seq.name},        {"mode", run.mode->label},
         {"mode_name", run.mode->name}, {"seed", run.seed},
@@ -357,12 +355,21 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
     const bool same_build = BuildId() != kUnknownBuildId && previous.is_object() && id != previous.end() &&
                             id->is_string() && id->get<std::string>() == BuildId();
     const bool complete = !plan.suite.save_map || fs::exists(fs::path(run.out_dir) / "map.ply");
-    if (same_build && complete) {
+    const bool resume = same_build && complete;
+    // A run that is (re)done redraws its pictures; a resumed one draws only those missing.
+    const bool want_strip = options.plots && run.repeat == 0 && !resume;
+    if (resume) {
       entry["status"] = "ok";
       entry["resumed"] = true;
       entry["stats"] = std::move(previous);
       ++skipped;
     } else {
+      // A redone run's old pictures go first: if the new ones cannot be drawn, the report shows
+      // none rather than another build's.
+      if (options.plots && run.repeat == 0) {
+        for (const char* suffix : {".png", ".svg", "_map.png", "_keypoints.png"})
+          fs::remove(out / "plots" / (key + suffix), ec);
+      }
       RunRequest request;
       request.dataset = seq.dataset;
       request.config = run.mode->config.empty() ? seq.config : run.mode->config;
@@ -401,10 +408,10 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
     }
     if (options.plots && run.repeat == 0 && entry["status"] == "ok") {
       const std::string stem = (out / "plots" / key).string();
-      if (!fs::exists(stem + ".png"))
+      if (!resume || !fs::exists(stem + ".png"))
         WriteTrajectoryPlot(seq.dataset, run.out_dir, stem, seq.name + " / " + run.mode->label);
       const std::string map_view = (out / "plots" / (key + "_map.png")).string();
-      if (plan.suite.save_map && !fs::exists(map_view))
+      if (plan.suite.save_map && (!resume || !fs::exists(map_view)))
         WriteMapView(run.out_dir, map_view, seq.name + " / " + run.mode->label);
       const fs::path overlays = fs::path(run.out_dir) / "overlays";
       if (fs::is_directory(overlays)) {

@@ -459,8 +459,16 @@ assert s["build_id"].startswith("fnv1a64:"), s["build_id"]
 s["build_id"] = "fnv1a64:0000000000000000"
 json.dump(s, open(sys.argv[1], "w"))
 EOF
+# Its pictures are drawn again (stamped old here); the resumed run's are left alone.
+touch -d @1000000000 "$OUT"/plots/syn__plain* "$OUT"/plots/syn_twin__plain*
 run_bench >"$DIR/run1b.txt" 2>&1 || fail "run 1b: $(cat "$DIR/run1b.txt")"
 grep -qF "runs: 2 (1 resumed, 0 failed)" "$DIR/run1b.txt" || fail "older build resumed: $(cat "$DIR/run1b.txt")"
+for f in syn_twin__plain.png syn_twin__plain.svg syn_twin__plain_map.png syn_twin__plain_keypoints.png; do
+  [[ -s "$OUT/plots/$f" && $(stat -c %Y "$OUT/plots/$f") -gt 1000000000 ]] || fail "redone run: $f not drawn again"
+done
+for f in syn__plain.png syn__plain_map.png syn__plain_keypoints.png; do
+  [[ $(stat -c %Y "$OUT/plots/$f") == 1000000000 ]] || fail "resumed run: $f drawn again"
+done
 ! grep -qF 'fnv1a64:0000000000000000' "$OUT/runs/syn_twin/plain/seed1/stats.json" ||
   fail "the older build's stats.json was kept"
 # An unreadable stats.json is run again too (no abort).
