@@ -356,7 +356,8 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
                             id->is_string() && id->get<std::string>() == BuildId();
     const bool complete = !plan.suite.save_map || fs::exists(fs::path(run.out_dir) / "map.ply");
     const bool resume = same_build && complete;
-    // A run that is (re)done redraws its pictures; a resumed one draws only those missing.
+    // A run that is (re)done redraws its pictures; a resumed one draws only a missing trajectory
+    // plot or map picture (the keypoint strip needs the overlays of a run that is done).
     const bool want_strip = options.plots && run.repeat == 0 && !resume;
     if (resume) {
       entry["status"] = "ok";
