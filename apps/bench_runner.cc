@@ -365,9 +365,9 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       entry["stats"] = std::move(previous);
       ++skipped;
     } else {
-      // A redone run's old pictures go first: if the new ones cannot be drawn, the report shows
-      // none rather than another build's.
-      if (options.plots && run.repeat == 0) {
+      // A redone run's old pictures go first (with --no-plots too): if no new ones are drawn, the
+      // report shows none rather than another build's.
+      if (run.repeat == 0) {
         for (const char* suffix : {".png", ".svg", "_map.png", "_keypoints.png"})
           fs::remove(out / "plots" / (key + suffix), ec);
       }

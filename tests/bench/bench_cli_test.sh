@@ -475,6 +475,12 @@ done
 printf '{"build_id": 7, truncated' >"$OUT/runs/syn_twin/plain/seed1/stats.json"
 run_bench >"$DIR/run1c.txt" 2>&1 || fail "run 1c: $(cat "$DIR/run1c.txt")"
 grep -qF "runs: 2 (1 resumed, 0 failed)" "$DIR/run1c.txt" || fail "corrupt stats.json: $(cat "$DIR/run1c.txt")"
+# Redone with --no-plots: its old pictures are gone (not shown beside the new results); the
+# resumed run's stay.
+printf 'broken' >"$OUT/runs/syn_twin/plain/seed1/stats.json"
+run_bench --no-plots >"$DIR/run1d.txt" 2>&1 || fail "run 1d: $(cat "$DIR/run1d.txt")"
+ls "$OUT"/plots/syn_twin__plain* >/dev/null 2>&1 && fail "a run redone with --no-plots kept its old pictures"
+[[ -s "$OUT/plots/syn__plain_map.png" ]] || fail "--no-plots removed a resumed run's picture"
 stamp=$(stat -c %Y.%s "$OUT/runs/syn/plain/seed1/stats.json")
 sleep 1
 run_bench --repeats 2 >"$DIR/run2.txt" 2>&1 || fail "run 2: $(cat "$DIR/run2.txt")"
