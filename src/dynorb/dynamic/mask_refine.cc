@@ -60,10 +60,15 @@ void DepthRefineOptions::Validate() const {
 RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, const DepthRefineOptions& options,
                               float depth_hint_m, cv::Mat* mask) {
   CV_Assert(mask != nullptr && mask->type() == CV_8U);
-  const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(std::floor(box.x)), static_cast<int>(std::floor(box.y))),
-                                 cv::Point(static_cast<int>(std::ceil(box.br().x)), static_cast<int>(std::ceil(box.br().y)))) &
-                        cv::Rect(0, 0, mask->cols, mask->rows);
   RefinedMask result;
+  // Clipped to the image in floating point first: a box from a file may lie anywhere (1e12 px
+  // does not fit an int; found by fuzzing the box lists, session 47) or be NaN.
+  const float x0 = std::max(box.x, 0.f), y0 = std::max(box.y, 0.f);
+  const float x1 = std::min(box.x + box.width, static_cast<float>(mask->cols));
+  const float y1 = std::min(box.y + box.height, static_cast<float>(mask->rows));
+  if (!(x0 < x1 && y0 < y1)) return result;  // empty, outside the image, or NaN
+  const cv::Rect rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
+                      cv::Point(static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1))));
   if (rect.empty()) return result;
   // No depth evidence (or the object is not where it was predicted): the whole box.
   const auto whole_box = [&] {

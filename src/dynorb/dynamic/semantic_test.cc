@@ -1,5 +1,6 @@
 // Semantic mode: real detectors on real images (hand-checked person regions), box -> mask depth
 // refinement, the deterministic schedule and mask carrying, FileMaskProvider, bad input.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -188,6 +189,23 @@ TEST(MaskRefine, PersonBoxOverFarWallKeepsTheWall) {
   options.enabled = false;
   AddRefinedBoxMask({40, 10, 80, 110}, depth, options, 0.f, &box_mask);
   EXPECT_EQ(box_mask.at<uint8_t>(60, 45), 255);
+}
+
+// Boxes from a file may lie anywhere: far outside the image, larger than an int, NaN.
+TEST(MaskRefine, BoxesBeyondTheImageAreClipped) {
+  const cv::Mat depth(48, 64, CV_32F, cv::Scalar(2.0f));
+  DepthRefineOptions options;
+  options.dilation_px = 0;
+  cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
+  AddRefinedBoxMask({-1e12f, -1e12f, 3e12f, 3e12f}, depth, options, 0.f, &mask);
+  EXPECT_EQ(cv::countNonZero(mask), 48 * 64);  // covers the whole image
+  mask.setTo(0);
+  AddRefinedBoxMask({1e12f, 5.f, 1e12f, 1e26f}, depth, options, 0.f, &mask);
+  AddRefinedBoxMask({-50.f, -50.f, 10.f, 10.f}, depth, options, 0.f, &mask);
+  AddRefinedBoxMask({std::nanf(""), 5.f, 10.f, 10.f}, depth, options, 0.f, &mask);
+  EXPECT_EQ(cv::countNonZero(mask), 0);
+  AddRefinedBoxMask({60.5f, 40.5f, 1e9f, 1e9f}, depth, options, 0.f, &mask);
+  EXPECT_EQ(cv::countNonZero(mask), 4 * 8);  // columns 60-63, rows 40-47
 }
 
 // A provider that reports a square at a known place and counts its calls.

@@ -29,7 +29,9 @@ class Parser {
     if (!map.IsMap()) Fail(map, what + " must be a mapping");
     std::set<std::string> seen;
     for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
+      // A key that is itself a mapping or a list (e.g. a stray ',' before a '{') has no name.
+      if (!kv.first.IsScalar()) Fail(kv.first, "a key of " + what + " must be a plain name");
+      const std::string key = kv.first.Scalar();
       if (!allowed.count(key)) {
         std::string list;
         for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
