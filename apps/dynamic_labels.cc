@@ -15,11 +15,13 @@
 
 namespace dynorb {
 
-std::optional<MaskGroundTruth> MaskGroundTruth::Open(const std::string& dataset) {
+std::optional<MaskGroundTruth> MaskGroundTruth::Open(const std::string& dataset,
+                                                     cv::Size image_size) {
   const std::filesystem::path list = std::filesystem::path(dataset) / "masks.txt";
   if (!std::filesystem::exists(list)) return std::nullopt;
   MaskGroundTruth gt;
   gt.folder_ = dataset;
+  gt.image_size_ = image_size;
   gt.masks_ = ReadImageList(list.string());
   const std::filesystem::path objects = std::filesystem::path(dataset) / "objects.txt";
   if (std::filesystem::exists(objects)) {
@@ -71,6 +73,12 @@ cv::Mat MaskGroundTruth::MaskAt(double timestamp_s) const {
   cv::Mat mask = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (mask.empty()) throw InputError("cannot read mask " + path);
   if (mask.type() != CV_8UC1) throw InputError(path + ": a mask must be an 8-bit single-channel PNG");
+  // A mask of another size would be read at the wrong pixels (the statistics silently wrong).
+  if (!image_size_.empty() && mask.size() != image_size_) {
+    throw InputError(path + ": the mask is " + std::to_string(mask.cols) + "x" +
+                     std::to_string(mask.rows) + " but the images are " +
+                     std::to_string(image_size_.width) + "x" + std::to_string(image_size_.height));
+  }
   return mask;
 }
 

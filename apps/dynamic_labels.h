@@ -19,9 +19,10 @@ namespace dynorb {
 class MaskGroundTruth {
  public:
   // Nothing when the folder has no masks.txt. Throws InputError for a malformed masks.txt.
-  static std::optional<MaskGroundTruth> Open(const std::string& dataset);
+  // image_size: the size every mask must have (the images'; empty: not checked).
+  static std::optional<MaskGroundTruth> Open(const std::string& dataset, cv::Size image_size = {});
   // The mask whose stamp is within 5 ms of `timestamp_s` (empty Mat if none). Throws InputError
-  // if the listed PNG is missing or not 8-bit single channel.
+  // if the listed PNG is missing, not 8-bit single channel, or not of the images' size.
   cv::Mat MaskAt(double timestamp_s) const;
   // The pixels of `mask` (from MaskAt) whose object stands still at `timestamp_s` according to
   // the dataset's objects.txt ("ts id moving ..."), 255 there; empty when the dataset has no
@@ -32,6 +33,7 @@ class MaskGroundTruth {
 
  private:
   std::string folder_;
+  cv::Size image_size_;
   std::vector<StampedPath> masks_;
   bool has_objects_file_ = false;
   std::vector<std::pair<double, std::vector<int>>> still_ids_;  // Per stamp (sorted): still object ids.

@@ -1,5 +1,6 @@
 #include "dynamic_labels.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <opencv2/imgproc.hpp>
+
+#include "dynorb/core/error.h"
 
 namespace dynorb {
 namespace {
@@ -181,6 +184,28 @@ TEST(ClassifyErasedLandmarks, ByTheMaskAtTheirOrigin) {
   const OriginTruth later = ClassifyErasedLandmarks({erased(3.0, 50, 50, true)}, *masks);
   EXPECT_EQ(later.with_origin, 0);
   EXPECT_EQ(later.object_id, (std::vector<uint8_t>{0}));
+}
+
+// Masks must have the images' size: another size would be read at the wrong pixels.
+TEST(MaskGroundTruth, RefusesMasksOfAnotherSize) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "mask_size";
+  std::filesystem::create_directories(dir);
+  cv::imwrite((dir / "a.png").string(), cv::Mat::zeros(100, 100, CV_8U));
+  std::ofstream(dir / "masks.txt") << "1.0 a.png\n";
+  const std::optional<MaskGroundTruth> same =
+      MaskGroundTruth::Open(dir.string(), cv::Size(100, 100));
+  ASSERT_TRUE(same.has_value());
+  EXPECT_EQ(same->MaskAt(1.0).size(), cv::Size(100, 100));
+  const std::optional<MaskGroundTruth> other =
+      MaskGroundTruth::Open(dir.string(), cv::Size(640, 480));
+  ASSERT_TRUE(other.has_value());
+  try {
+    other->MaskAt(1.0);
+    ADD_FAILURE() << "no error for a 100x100 mask of 640x480 images";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(),
+                ::testing::HasSubstr("a.png: the mask is 100x100 but the images are 640x480"));
+  }
 }
 
 }  // namespace

@@ -278,7 +278,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     context.seed = cli.seed;
     filter = mode->Create(context);
   }
-  const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(cli.dataset);
+  const std::optional<MaskGroundTruth> masks = MaskGroundTruth::Open(
+      cli.dataset, cv::Size(options.sensor.camera.width, options.sensor.camera.height));
   const double level_scale = options.orb.scale_factor;  // Keypoint octave -> image scale ("support" truth).
   KeypointLabelStats label_stats(level_scale);
   KeypointLabelStats moving_now_stats(level_scale);  // Objects standing still at the frame ignored (objects.txt).
