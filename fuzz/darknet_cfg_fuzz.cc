@@ -1,0 +1,18 @@
+// Fuzz target: darknet .cfg files of the detector models (`--models DIR`): the parser and the
+// weight-size check that compares a .cfg with its .weights.
+#include <cstddef>
+#include <cstdint>
+
+#include "dynorb/core/error.h"
+#include "dynorb/dynamic/darknet_model.h"
+#include "fuzz_input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string path = dynorb::fuzz::WriteInput(data, size, ".cfg");
+  try {
+    dynorb::ReadDarknetCfg(path);
+    dynorb::DarknetExpectedWeightBytes(path, 20);
+  } catch (const dynorb::InputError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,16 @@
+// Fuzz target: PLY point clouds (ReadPlyPointCloud: maps written by `dynorb run --save-map`).
+#include <cstddef>
+#include <cstdint>
+
+#include "dynorb/core/error.h"
+#include "dynorb/io/point_cloud_io.h"
+#include "fuzz_input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string path = dynorb::fuzz::WriteInput(data, size, ".ply");
+  try {
+    dynorb::ReadPlyPointCloud(path);
+  } catch (const dynorb::InputError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,39 @@
+// Replays the files of corpus folders through a fuzz target's LLVMFuzzerTestOneInput, for builds
+// without libFuzzer (gcc): `dynorb_fuzz_<name>_replay DIR...`, registered with CTest on
+// fuzz/corpus/<name>/ (seed inputs and every crash found so far). An input that makes the target
+// throw anything but InputError, or crash, fails the test.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
+
+int main(int argc, char** argv) {
+  int replayed = 0;
+  for (int a = 1; a < argc; ++a) {
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(argv[a])) {
+      if (entry.is_regular_file()) files.push_back(entry.path());
+    }
+    if (files.empty()) {
+      std::cerr << argv[a] << ": no corpus files\n";
+      return 1;
+    }
+    for (const auto& file : files) {
+      std::ifstream in(file, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+      std::cout << "replay " << file.filename().string() << " (" << bytes.size() << " bytes)"
+                << std::endl;
+      LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+      ++replayed;
+    }
+  }
+  std::cout << replayed << " inputs replayed\n";
+  return replayed > 0 ? 0 : 1;
+}
