@@ -41,11 +41,19 @@ nlohmann::json LoadPublished(const std::string& explicit_path, const std::string
 
 void RunBenchCommand(BenchCli cli) {
   if (!cli.report_dir.empty()) {
-    const nlohmann::json results =
-        ReadBenchJson((fs::path(cli.report_dir) / "results.json").string());
-    const std::string suite_file =
-        results.contains("suite") ? results["suite"].value("file", "") : "";
-    WriteBenchReport(results, LoadPublished(cli.published, suite_file), cli.report_dir);
+    const std::string results_path = (fs::path(cli.report_dir) / "results.json").string();
+    const nlohmann::json results = ReadBenchJson(results_path);
+    // Valid JSON of the wrong shape (an edited or damaged file) is named, not left to
+    // nlohmann's message alone.
+    try {
+      const std::string suite_file = results.contains("suite") && results["suite"].is_object()
+                                         ? results["suite"].value("file", "")
+                                         : "";
+      WriteBenchReport(results, LoadPublished(cli.published, suite_file), cli.report_dir);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(results_path + " (or the published numbers' file): unexpected content (" +
+                       e.what() + "); results.json is written by `dynorb bench`");
+    }
     std::cout << "wrote " << cli.report_dir << "/report.md and report.html\n";
     return;
   }

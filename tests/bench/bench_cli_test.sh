@@ -148,6 +148,11 @@ grep -q '^- warning:' "$MD" && fail "report.md lists a warning no run had"
 echo '{"format": "something else"}' >"$DIR/stored/results.json"
 err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
 [[ $? == 2 ]] && grep -qF "not a dynorb bench results.json" <<<"$err" || fail "bad results.json: $err"
+# Valid JSON of the wrong shape: the file is named (nlohmann's message alone did not).
+echo '{"format": "dynorb-bench-results/1", "suite": {}, "runs": "none"}' >"$DIR/stored/results.json"
+err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
+[[ $? == 2 ]] && grep -qF "stored/results.json (or the published numbers' file): unexpected content" <<<"$err" ||
+  fail "results.json of the wrong shape: $err"
 
 # --- 3. a real (tiny) suite, resume -------------------------------------------------------------
 cat >"$DIR/tiny.yaml" <<'EOF'
