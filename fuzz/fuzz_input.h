@@ -13,13 +13,17 @@
 namespace dynorb {
 namespace fuzz {
 
-// Writes the input to <tmp>/dynorb_fuzz_<pid><suffix> (the same file on every call) and returns
-// its path.
-inline std::string WriteInput(const uint8_t* data, size_t size, const std::string& suffix) {
+// <tmp>/dynorb_fuzz_<pid><suffix>: a scratch path of this process.
+inline std::string TempPath(const std::string& suffix) {
   static const std::string base =
       (std::filesystem::temp_directory_path() / ("dynorb_fuzz_" + std::to_string(getpid())))
           .string();
-  const std::string path = base + suffix;
+  return base + suffix;
+}
+
+// Writes the input to TempPath(suffix) (the same file on every call) and returns its path.
+inline std::string WriteInput(const uint8_t* data, size_t size, const std::string& suffix) {
+  const std::string path = TempPath(suffix);
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
