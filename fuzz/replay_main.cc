@@ -2,6 +2,8 @@
 // without libFuzzer (gcc): `dynorb_fuzz_<name>_replay DIR...`, registered with CTest on
 // fuzz/corpus/<name>/ (seed inputs and every crash found so far). An input that makes the target
 // throw anything but InputError, or crash, fails the test.
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -35,5 +37,12 @@ int main(int argc, char** argv) {
     }
   }
   std::cout << replayed << " inputs replayed\n";
+  // The targets' scratch files (fuzz_input.h: <tmp>/dynorb_fuzz_<pid>...) are not left behind.
+  const std::string prefix = "dynorb_fuzz_" + std::to_string(getpid());
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
+    if (entry.path().filename().string().rfind(prefix, 0) == 0)
+      std::filesystem::remove_all(entry.path());
+  }
   return replayed > 0 ? 0 : 1;
 }
