@@ -41,7 +41,10 @@ int main(int argc, char** argv) {
   const std::string prefix = "dynorb_fuzz_" + std::to_string(getpid());
   for (const auto& entry :
        std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
-    if (entry.path().filename().string().rfind(prefix, 0) == 0)
+    const std::string name = entry.path().filename().string();
+    // The pid followed by the suffix's '.' or '_' (not another process's longer pid).
+    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size() &&
+        (name[prefix.size()] == '.' || name[prefix.size()] == '_'))
       std::filesystem::remove_all(entry.path());
   }
   return replayed > 0 ? 0 : 1;
