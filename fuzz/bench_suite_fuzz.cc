@@ -3,14 +3,11 @@
 #include <cstdint>
 #include <string>
 
-#include "dynorb/core/error.h"
 #include "dynorb/io/bench_suite.h"
+#include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  try {
-    dynorb::ParseBenchSuite(std::string(reinterpret_cast<const char*>(data), size), "suite.yaml",
-                            "/suites");
-  } catch (const dynorb::InputError&) {
-  }
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  dynorb::fuzz::AllowInputError([&] { dynorb::ParseBenchSuite(text, "suite.yaml", "/suites"); });
   return 0;
 }

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include "dynorb/core/error.h"
+
 namespace dynorb {
 namespace fuzz {
 
@@ -21,12 +23,27 @@ inline std::string TempPath(const std::string& suffix) {
   return base + suffix;
 }
 
+// Writes the bytes to `path` (replacing it).
+inline void WriteFile(const std::string& path, const uint8_t* data, size_t size) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+}
+
 // Writes the input to TempPath(suffix) (the same file on every call) and returns its path.
 inline std::string WriteInput(const uint8_t* data, size_t size, const std::string& suffix) {
   const std::string path = TempPath(suffix);
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  WriteFile(path, data, size);
   return path;
+}
+
+// Runs `parse`; an InputError (the parsers' one way to refuse input) is the expected outcome,
+// anything else thrown reaches libFuzzer (or the replay) as a failure.
+template <typename Parse>
+void AllowInputError(Parse&& parse) {
+  try {
+    parse();
+  } catch (const InputError&) {
+  }
 }
 
 }  // namespace fuzz

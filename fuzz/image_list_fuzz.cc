@@ -2,20 +2,15 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "dynorb/core/error.h"
 #include "dynorb/io/association.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dynorb::fuzz::WriteInput(data, size, ".txt");
-  try {
+  dynorb::fuzz::AllowInputError([&] {
     const auto list = dynorb::ReadImageList(path);
     dynorb::AssociateImageLists(list, list);
-  } catch (const dynorb::InputError&) {
-  }
-  try {
-    dynorb::ReadAssociationsFile(path);
-  } catch (const dynorb::InputError&) {
-  }
+  });
+  dynorb::fuzz::AllowInputError([&] { dynorb::ReadAssociationsFile(path); });
   return 0;
 }

@@ -3,15 +3,13 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "dynorb/core/error.h"
 #include "dynorb/dynamic/mask_file.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dynorb::fuzz::WriteInput(data, size, ".txt");
-  try {
+  dynorb::fuzz::AllowInputError([&] {
     dynorb::FileMaskProvider(path, dynorb::MaskFileKind::kMasks, dynorb::DepthRefineOptions());
-  } catch (const dynorb::InputError&) {
-  }
+  });
   return 0;
 }

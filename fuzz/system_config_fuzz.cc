@@ -3,15 +3,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "dynorb/core/error.h"
 #include "dynorb/io/config.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dynorb::fuzz::WriteInput(data, size, ".yaml");
-  try {
-    dynorb::LoadSystemConfig(path);
-  } catch (const dynorb::InputError&) {
-  }
+  dynorb::fuzz::AllowInputError([&] { dynorb::LoadSystemConfig(path); });
   return 0;
 }

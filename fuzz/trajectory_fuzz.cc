@@ -3,19 +3,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "dynorb/core/error.h"
 #include "dynorb/io/trajectory_io.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dynorb::fuzz::WriteInput(data, size, ".txt");
-  try {
-    dynorb::ReadTumTrajectory(path);
-  } catch (const dynorb::InputError&) {
-  }
-  try {
-    dynorb::ReadTumGroundTruth(path);
-  } catch (const dynorb::InputError&) {
-  }
+  dynorb::fuzz::AllowInputError([&] { dynorb::ReadTumTrajectory(path); });
+  dynorb::fuzz::AllowInputError([&] { dynorb::ReadTumGroundTruth(path); });
   return 0;
 }

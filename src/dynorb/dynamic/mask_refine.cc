@@ -69,7 +69,6 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
   if (!(x0 < x1 && y0 < y1)) return result;  // empty, outside the image, or NaN
   const cv::Rect rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
                       cv::Point(static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1))));
-  if (rect.empty()) return result;
   // No depth evidence (or the object is not where it was predicted): the whole box.
   const auto whole_box = [&] {
     FillDilated(rect, cv::Mat(rect.size(), CV_8U, cv::Scalar(255)), options.dilation_px, mask);
