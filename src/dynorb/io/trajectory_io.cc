@@ -10,6 +10,13 @@
 #include "dynorb/io/text_lines.h"
 
 namespace dynorb {
+namespace {
+
+// Positions beyond this are not metres of a camera path (the Moon is 3.8e8 m away); squared in
+// the alignment and the error statistics they would overflow to inf.
+constexpr double kMaxPositionM = 1e9;
+
+}  // namespace
 
 Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options) {
   Trajectory trajectory;
@@ -21,6 +28,13 @@ Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOption
     }
     double v[8];
     for (int i = 0; i < 8; ++i) v[i] = ParseDouble(fields[i], path, line_no);
+    for (int i = 1; i <= 3; ++i) {
+      if (std::abs(v[i]) > kMaxPositionM) {
+        throw InputErrorAt(
+            path, line_no,
+            "position '" + fields[i] + "' is beyond +-1e9 m: not a camera path in metres");
+      }
+    }
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     const double norm = q.norm();
     if (norm < 0.9 || norm > 1.1) {

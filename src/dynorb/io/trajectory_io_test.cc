@@ -61,6 +61,9 @@ TEST_F(TrajectoryIoTest, RejectsBadInputWithLineNumbers) {
   expect_error("1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", "bad.txt:2: duplicate timestamp");
   expect_error("2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", "not increasing");
   expect_error("1.0 0 0 0 0 0 0 3\n", "not unit length");
+  expect_error("1.0 0 0 0 0 0 0 1\n2.0 1e308 0 0 0 0 0 1\n",
+               "bad.txt:2: position '1e308' is beyond");
+  expect_error("1.0 0 -2e9 0 0 0 0 1\n", "bad.txt:1: position '-2e9' is beyond");
   expect_error("# only a comment\n", "no poses");
   EXPECT_THROW(ReadTumTrajectory((dir_ / "missing.txt").string()), InputError);
 }
