@@ -298,8 +298,15 @@ BowVector Vocabulary::Transform(const cv::Mat& descriptors) const {
   return out;
 }
 
-std::string Vocabulary::ToBytes() const {
+std::string SealVocabularyBytes(const std::string& fields) {
   std::string out(kMagic, sizeof(kMagic));
+  out += fields;
+  PutU64(&out, Fnv1a(out.data(), out.size()));
+  return out;
+}
+
+std::string Vocabulary::ToBytes() const {
+  std::string out;
   PutU32(&out, static_cast<uint32_t>(branching_));
   PutU32(&out, static_cast<uint32_t>(levels_));
   PutU32(&out, static_cast<uint32_t>(nodes_.size()));
@@ -316,8 +323,7 @@ std::string Vocabulary::ToBytes() const {
     std::memcpy(&bits, &f, 4);
     PutU32(&out, bits);
   }
-  PutU64(&out, Fnv1a(out.data(), out.size()));
-  return out;
+  return SealVocabularyBytes(out);
 }
 
 Vocabulary Vocabulary::FromBytes(const std::string& bytes, const std::string& name) {

@@ -41,6 +41,11 @@ struct VocabularyOptions {
   void Validate() const;
 };
 
+// The binary form's framing around its fields: the magic first, a checksum of everything before
+// it last (what ToBytes writes and FromBytes checks). For tools that write the fields themselves
+// (the fuzz target).
+std::string SealVocabularyBytes(const std::string& fields);
+
 class Vocabulary {
  public:
   Vocabulary() = default;

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 
@@ -197,6 +199,18 @@ TEST(Vocabulary, BadFilesAndOptionsAreInputErrors) {
   o.branching = 10;
   o.levels = 9;
   testing::ExpectInputError([&] { o.Validate(); }, "levels");
+}
+
+// The checked-in file (written by an earlier `dynorb vocab`) is exactly what ToBytes writes, and
+// its fields sealed again give the file back: magic first, checksum last.
+TEST(BuiltInVocabulary, FileBytesAreToBytesAndSealedFields) {
+  std::ifstream in(std::string(DYNORB_SOURCE_DIR) + "/config/orb_vocabulary.dynvoc",
+                   std::ios::binary);
+  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(file.size(), 16u);
+  EXPECT_EQ(BuiltInVocabulary()->ToBytes(), file);
+  EXPECT_EQ(SealVocabularyBytes(file.substr(8, file.size() - 16)), file);
+  EXPECT_NE(SealVocabularyBytes(file.substr(8, file.size() - 17) + "x"), file);
 }
 
 TEST(BuiltInVocabulary, IsTheCheckoutsFileAndSeparatesPlaces) {
