@@ -1,15 +1,18 @@
 // FAST dynamic mode: per-frame cost of FastFilter::Filter and its keypoint precision/recall on a
 // short synthetic walking_xyz clip rendered in memory (frames 100-119, seed 7), for both
 // correspondence methods (LK optical flow vs brute-force descriptor matching) and with single
-// stages switched off. Counters: ms_per_frame (filter only), per-stage ms, precision, recall.
+// stages switched off. Counters: ms_per_frame (filter only), per-stage ms, precision, recall,
+// process_cpu_ms_per_frame (all threads); *_1thread: OpenCV on one thread.
 //   build/<dir>/bench/dynorb_microbench --benchmark_filter=FastFilter
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <string>
 #include <vector>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "dynorb/dynamic/fast_correspondence.h"
@@ -54,11 +57,17 @@ const Clip& GetClip() {
   return clip;
 }
 
-void RunFast(benchmark::State& state, FastOptions options) {
+// `one_thread`: OpenCV limited to one thread (cv::setNumThreads(1), restored after).
+// `process_cpu_ms_per_frame`: CPU time of the whole process (std::clock, so OpenCV's worker
+// threads count too; Google Benchmark's CPU column counts only the calling thread).
+void RunFast(benchmark::State& state, FastOptions options, bool one_thread = false) {
   const Clip& clip = GetClip();
   long long tp = 0, fp = 0, fn = 0;
   FastTiming stages;
   int frames = 0;
+  const int threads_before = cv::getNumThreads();
+  if (one_thread) cv::setNumThreads(1);
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     FastFilter filter(options, clip.camera);
     for (size_t i = 0; i < clip.gray.size(); ++i) {
@@ -84,8 +93,11 @@ void RunFast(benchmark::State& state, FastOptions options) {
     stages += filter.total_timing();
     frames += filter.frames();
   }
+  const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  if (one_thread) cv::setNumThreads(threads_before);
   const double f = std::max(1, frames);
   state.counters["ms_per_frame"] = stages.total_ms / f;
+  state.counters["process_cpu_ms_per_frame"] = cpu_ms / f;
   state.counters["flow_ms"] = stages.flow_ms / f;
   state.counters["ego_ms"] = stages.ego_ms / f;
   state.counters["F_ms"] = stages.fundamental_ms / f;
@@ -96,6 +108,7 @@ void RunFast(benchmark::State& state, FastOptions options) {
 }
 
 void BM_FastFilter_Flow(benchmark::State& state) { RunFast(state, FastOptions()); }
+void BM_FastFilter_Flow_1thread(benchmark::State& state) { RunFast(state, FastOptions(), true); }
 void BM_FastFilter_Descriptors(benchmark::State& state) {
   FastOptions o;
   o.correspondences = "descriptors";
@@ -198,6 +211,7 @@ BENCHMARK(BM_FastFlow_BaseFirst)
     ->ArgNames({"base_window_px", "epsilon_centipx"})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FastFilter_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_FastFilter_Flow_1thread)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_ReportCuesOnly_Flow)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_FastFilter_ReportCuesOnly_Descriptors)->Unit(benchmark::kMillisecond)->Iterations(2);
