@@ -76,23 +76,34 @@ std::vector<std::string> RunWarnings(const DepthScaleCheck& depth,
     const FrameRecord& best = *std::max_element(
         records.begin(), records.end(),
         [&](const FrameRecord& a, const FrameRecord& b) { return score(a) < score(b); });
+    std::string keypoint_hint;
+    if (best.num_used < limits.min_init_points) {
+      if (best.num_keypoints < limits.min_init_points) {
+        keypoint_hint =
+            "; too few keypoints: blank or textureless images, or "
+            "ORBextractor.nFeatures below " +
+            std::to_string(limits.min_init_points);
+      } else if (!best.judged && best.num_filtered == best.num_keypoints) {
+        // A filter that compares each frame with the one before cannot judge the first.
+        keypoint_hint = "; the keypoint filter withheld all " + std::to_string(best.num_keypoints) +
+                        " of its keypoints: it could not judge the frame (the fast mode compares "
+                        "each frame with the one before, so a sequence needs at least two)";
+      } else {
+        keypoint_hint = "; the keypoint filter removed " + std::to_string(best.num_filtered) +
+                        " of its " + std::to_string(best.num_keypoints) + " keypoints";
+      }
+    }
+    // Depth is to blame only when enough keypoints were left to find it on.
+    const bool depth_short = best.num_with_depth < limits.min_init_depth_points &&
+                             best.num_used >= limits.min_init_depth_points;
     warnings.push_back(
         "the map was never initialised: a frame needs at least " +
         std::to_string(limits.min_init_points) + " keypoints of which " +
         std::to_string(limits.min_init_depth_points) + " with depth; the closest was frame " +
         std::to_string(limits.first_frame + best.id) + Format(" (t = %.6f s)", best.timestamp_s) +
         " with " + std::to_string(best.num_used) + " keypoints, " +
-        std::to_string(best.num_with_depth) + " with depth" +
-        (best.num_used >= limits.min_init_points ? std::string()
-         : best.num_keypoints >= limits.min_init_points
-             ? "; the keypoint filter removed " + std::to_string(best.num_filtered) + " of its " +
-                   std::to_string(best.num_keypoints) + " keypoints"
-             : "; too few keypoints: blank or textureless images, or ORBextractor.nFeatures "
-               "below " +
-                   std::to_string(limits.min_init_points)) +
-        (best.num_with_depth < limits.min_init_depth_points
-             ? "; too little depth: check the depth images and DepthMapFactor"
-             : ""));
+        std::to_string(best.num_with_depth) + " with depth" + keypoint_hint +
+        (depth_short ? "; too little depth: check the depth images and DepthMapFactor" : ""));
   }
   return warnings;
 }

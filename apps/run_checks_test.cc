@@ -122,6 +122,34 @@ TEST(RunWarnings, NeverInitialisedBecauseOfTheFilterSaysSoInDatasetFrameNumbers)
   EXPECT_FALSE(Mentions(w, "too few keypoints")) << w[0];
 }
 
+TEST(RunWarnings, NeverInitialisedOnAFrameTheFilterCouldNotJudgeBlamesNeitherDepthNorImages) {
+  // `--mode fast` on a one-frame sequence: the first frame's keypoints are withheld.
+  DepthScaleCheck check;
+  check.Add(Depth(2.0f));
+  FrameRecord r = Record(0, 0, 0);
+  r.num_keypoints = 1013;
+  r.num_filtered = 1013;
+  r.judged = false;
+  const std::vector<std::string> w = RunWarnings(check, {r}, RunCheckLimits());
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_TRUE(Mentions(w,
+                       "with 0 keypoints, 0 with depth; the keypoint filter withheld all 1013 of "
+                       "its keypoints: it could not judge the frame"))
+      << w[0];
+  EXPECT_FALSE(Mentions(w, "too little depth")) << w[0];
+  // A judged frame whose keypoints the filter removed: said as before, and no depth blame either
+  // when too few keypoints were left to find depth on.
+  r.judged = true;
+  r.num_filtered = 1000;
+  r.num_used = 13;
+  r.num_with_depth = 5;
+  const std::vector<std::string> judged = RunWarnings(check, {r}, RunCheckLimits());
+  ASSERT_EQ(judged.size(), 1u);
+  EXPECT_TRUE(Mentions(judged, "the keypoint filter removed 1000 of its 1013 keypoints"))
+      << judged[0];
+  EXPECT_FALSE(Mentions(judged, "too little depth")) << judged[0];
+}
+
 TEST(RunWarnings, TooFewKeypointsPointsAtTheImagesAndTheFeatureCount) {
   DepthScaleCheck check;
   check.Add(Depth(2.0f));
