@@ -8,13 +8,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <string>
 #include <vector>
 
-#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_util.h"
 #include "dynorb/dynamic/fast_correspondence.h"
 #include "dynorb/dynamic/fast_filter.h"
 #include "dynorb/synth/synthesizer.h"
@@ -57,17 +56,15 @@ const Clip& GetClip() {
   return clip;
 }
 
-// `one_thread`: OpenCV limited to one thread (cv::setNumThreads(1), restored after).
-// `process_cpu_ms_per_frame`: CPU time of the whole process (std::clock, so OpenCV's worker
-// threads count too; Google Benchmark's CPU column counts only the calling thread).
+// `one_thread`: OpenCV limited to one thread. `process_cpu_ms_per_frame`: the whole process's CPU
+// (ProcessCpuTimer).
 void RunFast(benchmark::State& state, FastOptions options, bool one_thread = false) {
   const Clip& clip = GetClip();
   long long tp = 0, fp = 0, fn = 0;
   FastTiming stages;
   int frames = 0;
-  const int threads_before = cv::getNumThreads();
-  if (one_thread) cv::setNumThreads(1);
-  const std::clock_t cpu_start = std::clock();
+  const CvThreads threads(one_thread ? 1 : 0);
+  const ProcessCpuTimer cpu;
   for (auto _ : state) {
     FastFilter filter(options, clip.camera);
     for (size_t i = 0; i < clip.gray.size(); ++i) {
@@ -93,8 +90,7 @@ void RunFast(benchmark::State& state, FastOptions options, bool one_thread = fal
     stages += filter.total_timing();
     frames += filter.frames();
   }
-  const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-  if (one_thread) cv::setNumThreads(threads_before);
+  const double cpu_ms = cpu.ElapsedMs();
   const double f = std::max(1, frames);
   state.counters["ms_per_frame"] = stages.total_ms / f;
   state.counters["process_cpu_ms_per_frame"] = cpu_ms / f;

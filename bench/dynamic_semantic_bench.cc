@@ -1,14 +1,13 @@
 // Semantic mode: ms per inference of each detector (OpenCV DNN, CPU) on the real TUM frame,
 // plus the box -> depth-mask refinement and its 8 px elliptic dilation. Needs the models in
 // ../shared/models (skipped otherwise).
-#include <ctime>
 #include <filesystem>
 
 #include <benchmark/benchmark.h>
-#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_util.h"
 #include "dynorb/dynamic/detector_dnn.h"
 #include "dynorb/dynamic/mask_refine.h"
 #include "dynorb/dynamic/morphology.h"
@@ -20,9 +19,8 @@ namespace {
 const std::string kShared = std::string(DYNORB_SOURCE_DIR) + "/../shared";
 const std::string kFrame = kShared + "/data/tum/rgbd_dataset_freiburg3_walking_xyz_frame0";
 
-// `process_cpu_ms`: CPU time of the whole process per call (std::clock, so OpenCV's worker
-// threads count too; Google Benchmark's CPU column counts only the calling thread).
-// `opencv_threads` > 0: cv::setNumThreads for the benchmark (restored after).
+// `process_cpu_ms`: CPU time of the whole process per call (ProcessCpuTimer).
+// `opencv_threads` > 0: OpenCV limited to that many threads for the benchmark (CvThreads).
 // `dynamic_classes`: only the semantic mode's default classes, as `dynorb run` asks for them
 // (darknet heads cut to them).
 void BM_Detector(benchmark::State& state, const std::string& model, cv::Size input = {},
@@ -43,17 +41,15 @@ void BM_Detector(benchmark::State& state, const std::string& model, cv::Size inp
     options = SemanticDetectorOptions(semantic);
   }
   DnnDetector detector(options);
-  const int threads_before = cv::getNumThreads();
-  if (opencv_threads > 0) cv::setNumThreads(opencv_threads);
+  const CvThreads threads(opencv_threads);
   double inference_ms = 0.0;
   size_t found = 0;
-  const std::clock_t cpu_start = std::clock();
+  const ProcessCpuTimer cpu;
   for (auto _ : state) {
     found = detector.Detect(bgr).size();
     inference_ms += detector.last_timing().inference_ms;
   }
-  const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-  if (opencv_threads > 0) cv::setNumThreads(threads_before);
+  const double cpu_ms = cpu.ElapsedMs();
   const double calls = static_cast<double>(state.iterations());
   state.counters["inference_ms"] = inference_ms / calls;
   state.counters["process_cpu_ms"] = cpu_ms / calls;

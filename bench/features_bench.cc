@@ -1,7 +1,7 @@
 // ORB extraction and matching speed on a 640×480 frame (target: Detect + Describe well under
 // ~15 ms on one core so tracking keeps ≥ 30 Hz). Image: the real TUM fr3 frame in ../shared if
 // present, else OpenCV's graf1.png, else a synthetic texture (the label says which).
-// The *_1thread variants pin OpenCV to one thread (cv::setNumThreads(1)) and restore it after.
+// The *_1thread variants pin OpenCV to one thread (CvThreads, bench_util.h) and restore it after.
 #include <benchmark/benchmark.h>
 
 #include <fstream>
@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "bench_util.h"
 #include "dynorb/features/orb_extractor.h"
 #include "dynorb/features/orb_matcher.h"
 #include "dynorb/features/synthetic_texture.h"
@@ -43,20 +44,8 @@ const BenchImage& Frame() {
   return frame;
 }
 
-// Runs the benchmark body with OpenCV limited to one thread when `one_thread` is set.
-class CvThreads {
- public:
-  explicit CvThreads(bool one_thread) : saved_(cv::getNumThreads()) {
-    if (one_thread) cv::setNumThreads(1);
-  }
-  ~CvThreads() { cv::setNumThreads(saved_); }
-
- private:
-  int saved_;
-};
-
 void BM_OrbDetect(benchmark::State& state) {
-  const CvThreads threads(state.range(0) == 1);
+  const CvThreads threads(state.range(0) == 1 ? 1 : 0);
   const OrbExtractor extractor;
   const cv::Mat& image = Frame().gray;
   int n = 0;
@@ -70,7 +59,7 @@ void BM_OrbDetect(benchmark::State& state) {
 BENCHMARK(BM_OrbDetect)->Arg(1)->Arg(0)->ArgName("one_thread")->Unit(benchmark::kMillisecond);
 
 void BM_OrbDescribe(benchmark::State& state) {
-  const CvThreads threads(state.range(0) == 1);
+  const CvThreads threads(state.range(0) == 1 ? 1 : 0);
   const OrbExtractor extractor;
   const KeypointSet set = extractor.Detect(Frame().gray);
   for (auto _ : state) benchmark::DoNotOptimize(extractor.Describe(set));
@@ -79,7 +68,7 @@ void BM_OrbDescribe(benchmark::State& state) {
 BENCHMARK(BM_OrbDescribe)->Arg(1)->ArgName("one_thread")->Unit(benchmark::kMillisecond);
 
 void BM_OrbDetectAndDescribe(benchmark::State& state) {
-  const CvThreads threads(state.range(0) == 1);
+  const CvThreads threads(state.range(0) == 1 ? 1 : 0);
   const OrbExtractor extractor;
   const cv::Mat& image = Frame().gray;
   for (auto _ : state) benchmark::DoNotOptimize(extractor.DetectAndDescribe(image));
@@ -93,7 +82,7 @@ BENCHMARK(BM_OrbDetectAndDescribe)
 
 // OpenCV's ORB with ORB-SLAM-like parameters, for comparison (Harris ranking, no quadtree).
 void BM_CvOrbDetectAndCompute(benchmark::State& state) {
-  const CvThreads threads(state.range(0) == 1);
+  const CvThreads threads(state.range(0) == 1 ? 1 : 0);
   cv::Ptr<cv::ORB> orb = cv::ORB::create(1000, 1.2f, 8, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31, 20);
   const cv::Mat& image = Frame().gray;
   std::vector<cv::KeyPoint> keypoints;

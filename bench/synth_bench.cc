@@ -5,10 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <ctime>
 #include <filesystem>
 #include <memory>
 
+#include "bench_util.h"
 #include "dynorb/synth/synthesizer.h"
 
 namespace {
@@ -42,7 +42,7 @@ void BM_SynthSequence(benchmark::State& state) {
   const auto dir =
       std::filesystem::temp_directory_path() / ("dynorb_synth_bench_" + std::to_string(::getpid()));
   int frames = 0;
-  const std::clock_t cpu_start = std::clock();
+  const dynorb::ProcessCpuTimer cpu;
   for (auto _ : state) {
     std::filesystem::remove_all(dir);
     auto o = BenchOptions();
@@ -50,7 +50,7 @@ void BM_SynthSequence(benchmark::State& state) {
     o.out_dir = dir.string();
     frames += dynorb::synth::Synthesize(o).frames;
   }
-  const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  const double cpu_s = cpu.ElapsedMs() / 1000.0;
   std::filesystem::remove_all(dir);
   state.counters["frames_per_s"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
   // Frames per CPU second of the whole process (all threads): the rate one idle core sustains.
