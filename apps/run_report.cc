@@ -1,5 +1,6 @@
 #include "run_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -42,21 +43,23 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
 std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers,
                       const std::vector<int>& new_landmarks_on_movers) {
   std::string csv =
-      "frame,timestamp,state,relocalized,new_keyframe,reference_keyframe,keypoints,filtered,refilled,inliers,"
-      "judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,mapping_ms,total_ms,inliers_on_movers,new_landmarks_on_movers\n";
+      "frame,timestamp,state,relocalized,new_keyframe,reference_keyframe,keypoints,filtered,"
+      "refilled,inliers,judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,"
+      "mapping_ms,total_ms,inliers_on_movers,new_landmarks_on_movers,analysed\n";
   char line[512];
   for (size_t k = 0; k < records.size(); ++k) {
     const FrameRecord& r = records[k];
     const FrameTiming& t = r.timing;
-    std::snprintf(line, sizeof(line), "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d\n",
-                  static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state), r.relocalized ? 1 : 0,
-                  r.new_keyframe ? 1 : 0,
-                  r.reference_keyframe == kNoKeyframe ? -1LL : static_cast<long long>(r.reference_keyframe),
-                  r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, r.judged ? 1 : 0, t.detect_ms,
-                  t.filter_ms,
-                  t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms, t.mapping_ms, t.total_ms,
-                  k < inliers_on_movers.size() ? inliers_on_movers[k] : -1,
-                  k < new_landmarks_on_movers.size() ? new_landmarks_on_movers[k] : -1);
+    std::snprintf(
+        line, sizeof(line),
+        "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d\n",
+        static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state), r.relocalized ? 1 : 0,
+        r.new_keyframe ? 1 : 0,
+        r.reference_keyframe == kNoKeyframe ? -1LL : static_cast<long long>(r.reference_keyframe),
+        r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, r.judged ? 1 : 0,
+        t.detect_ms, t.filter_ms, t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms,
+        t.mapping_ms, t.total_ms, k < inliers_on_movers.size() ? inliers_on_movers[k] : -1,
+        k < new_landmarks_on_movers.size() ? new_landmarks_on_movers[k] : -1, r.analysed ? 1 : 0);
     csv += line;
   }
   return csv;
@@ -176,6 +179,10 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   j["keypoints_per_frame"] = StatsJson(keypoints);
   j["filtered_keypoints_per_frame"] = StatsJson(filtered);
   j["refilled_keypoints_per_frame"] = StatsJson(refilled);  // 0 on frames without a refill.
+  // Frames the keypoint filter analysed; the others carried its earlier result (frames.csv
+  // `analysed`; every frame without a filter).
+  j["filter_analysed_frames"] = std::count_if(records.begin(), records.end(),
+                                              [](const FrameRecord& r) { return r.analysed; });
   j["inliers_per_frame"] = StatsJson(inliers);
   j["timing_ms"] = {{"detect", StatsJson(detect)},     {"filter", StatsJson(filter)},     {"refill", StatsJson(refill)},
                     {"describe", StatsJson(describe)}, {"track", StatsJson(track)},

@@ -205,6 +205,7 @@ assert sum(int(r["new_keyframe"]) for r in rows) == s["keyframes_inserted"], row
 assert sum(r["state"] == "ok" for r in rows) == s["tracked_frames"]
 assert all(float(r["total_ms"]) > 0 and int(r["keypoints"]) > 0 for r in rows)
 assert all(r["judged"] == "1" for r in rows), rows  # plain mode has no filter: every frame counts
+assert all(r["analysed"] == "1" for r in rows) and s["filter_analysed_frames"] == 14, s["filter_analysed_frames"]
 # Pose inliers and new landmarks on moving objects (synthetic masks): counted per frame, summed in stats.json.
 on = [int(r["inliers_on_movers"]) for r in rows]
 assert all(0 <= o <= int(r["inliers"]) for o, r in zip(on, rows)), on
@@ -368,6 +369,9 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 assert rows[0]["judged"] == "0" and rows[0]["state"] == "not_initialized", rows[0]
 assert rows[0]["filtered"] == rows[0]["keypoints"], rows[0]  # withheld
 assert all(r["judged"] == "1" for r in rows[1:]) and rows[1]["state"] == "ok", rows[1]
+stats = __import__("json").load(open(sys.argv[1].replace("frames.csv", "stats.json")))
+assert stats["filter_analysed_frames"] == sum(r["analysed"] == "1" for r in rows), stats["filter_analysed_frames"]
+assert rows[0]["analysed"] == "1" and rows[1]["analysed"] == "1", rows[:2]  # quiet analyses come first
 EOF
 /usr/bin/python3 - "$DIR/fastrun/stats.json" "$OUT/cache/walking_xyz_s3_f14" <<'EOF' || fail "keypoint label statistics"
 import json, os, sys

@@ -81,6 +81,7 @@ FilterOutput CombinedFilter::Filter(const FilterInput& input) {
     Stopwatch watch;
     FilterOutput part = parts_[p].filter->Filter(input);
     out.judged = out.judged || part.judged;
+    out.analysed = out.analysed && part.analysed;  // Analysed when every part analysed.
     part_ms_[p] = watch.ElapsedMs();
     if (part.keep.size() != n)
       throw std::logic_error("filter " + parts_[p].label + " returned a wrong-sized keep");

@@ -6,13 +6,17 @@
 // before the carried frame 3: the box's image moves 80 px, the wall's 40 px. The carried mask must
 // land on the box where the camera's motion puts it, not where it was (a carry that ignores the
 // motion) nor on the other side (one that applies it the wrong way round).
+// The same scene with the box standing still, then moving, tests the quiet schedule
+// (`fast.quiet_analyse_every`).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
+#include "dynorb/core/error.h"
 #include "dynorb/dynamic/fast_clip_test_util.h"
 #include "dynorb/dynamic/fast_filter.h"
 #include "dynorb/dynamic/fast_test_util.h"
@@ -34,36 +38,36 @@ cv::Mat BlobTexture(cv::Size size, uint64_t seed) {
   return texture(cv::Rect(cv::Point(), size)).clone();
 }
 
+// The camera moved so far along x that the wall's image shifted camera_wall_px to the left; the
+// box's top-left corner at (box_x_px, box_y_px) in the image of a camera at x = 0. The frame's
+// mask is the box (255).
+ClipFrame RenderWallAndBox(int camera_wall_px, int box_x_px, int box_y_px) {
+  static const cv::Mat wall = BlobTexture(cv::Size(1200, 600), 3);
+  static const cv::Mat box = BlobTexture(cv::Size(kBoxPx, kBoxPx), 4);
+  const PinholeCamera camera = FastTestCamera();
+  ClipFrame f;
+  // The wall's image shifts by camera_wall_px; the box's (half as far) by twice that.
+  f.world_from_cam = Rigid3d(Eigen::Quaterniond::Identity(),
+                             Eigen::Vector3d(camera_wall_px * kWallDepthM / camera.fx, 0.0, 0.0));
+  f.gray = wall(cv::Rect(200 + camera_wall_px, 60, camera.width, camera.height)).clone();
+  f.depth_m = cv::Mat(f.gray.size(), CV_32F, cv::Scalar(kWallDepthM));
+  f.mask = cv::Mat::zeros(f.gray.size(), CV_8U);
+  const cv::Rect at(box_x_px - 2 * camera_wall_px, box_y_px, kBoxPx, kBoxPx);
+  const cv::Rect visible = at & cv::Rect(cv::Point(), f.gray.size());
+  box(visible - at.tl()).copyTo(f.gray(visible));
+  f.depth_m(visible).setTo(kBoxDepthM);
+  f.mask(visible).setTo(255);
+  cv::cvtColor(f.gray, f.bgr, cv::COLOR_GRAY2BGR);
+  return f;
+}
+
+// cam_from_previous_cam of frame i (the camera translates along x only).
+Rigid3d CameraMotion(const std::vector<ClipFrame>& frames, size_t i) {
+  return frames[i].world_from_cam.Inverse() * frames[i - 1].world_from_cam;
+}
+
 class CarryUnderLargeMotion : public ::testing::Test {
  protected:
-  // The camera moved so far along x that the wall's image shifted camera_wall_px to the left; the
-  // box's top-left corner at (box_x_px, box_y_px) in the image of a camera at x = 0. The frame's
-  // mask is the box (255).
-  static ClipFrame Render(int camera_wall_px, int box_x_px, int box_y_px) {
-    static const cv::Mat wall = BlobTexture(cv::Size(1200, 600), 3);
-    static const cv::Mat box = BlobTexture(cv::Size(kBoxPx, kBoxPx), 4);
-    const PinholeCamera camera = FastTestCamera();
-    ClipFrame f;
-    // The wall's image shifts by camera_wall_px; the box's (half as far) by twice that.
-    f.world_from_cam = Rigid3d(Eigen::Quaterniond::Identity(),
-                               Eigen::Vector3d(camera_wall_px * kWallDepthM / camera.fx, 0.0, 0.0));
-    f.gray = wall(cv::Rect(200 + camera_wall_px, 60, camera.width, camera.height)).clone();
-    f.depth_m = cv::Mat(f.gray.size(), CV_32F, cv::Scalar(kWallDepthM));
-    f.mask = cv::Mat::zeros(f.gray.size(), CV_8U);
-    const cv::Rect at(box_x_px - 2 * camera_wall_px, box_y_px, kBoxPx, kBoxPx);
-    const cv::Rect visible = at & cv::Rect(cv::Point(), f.gray.size());
-    box(visible - at.tl()).copyTo(f.gray(visible));
-    f.depth_m(visible).setTo(kBoxDepthM);
-    f.mask(visible).setTo(255);
-    cv::cvtColor(f.gray, f.bgr, cv::COLOR_GRAY2BGR);
-    return f;
-  }
-
-  // cam_from_previous_cam of frame i (the camera translates along x only).
-  static Rigid3d Motion(const std::vector<ClipFrame>& frames, size_t i) {
-    return frames[i].world_from_cam.Inverse() * frames[i - 1].world_from_cam;
-  }
-
   struct Carried {
     double recall = 0.0;       // box keypoints removed in the carried frame
     double mask_on_box = 0.0;  // fraction of the carried mask's pixels on the box
@@ -83,7 +87,7 @@ class CarryUnderLargeMotion : public ::testing::Test {
       const ClipFrame& f = frames[i];
       const KeypointSet set = extractor.Detect(f.gray);
       FilterInput input = ClipInput(f, set, i);
-      if (i > 0) input.predicted_cam_from_previous_cam = Motion(frames, i);
+      if (i > 0) input.predicted_cam_from_previous_cam = CameraMotion(frames, i);
       if (i == 3) input.predicted_cam_from_previous_cam = frame3_prediction;
       const FilterOutput out = filter.Filter(input);
       if (i == 2) {
@@ -109,9 +113,10 @@ class CarryUnderLargeMotion : public ::testing::Test {
 
 TEST_F(CarryUnderLargeMotion, TheMaskLandsWhereTheCameraMotionPutsTheObject) {
   // Wall shifts 0, 4, 8 px, then 40 px more; the box moves 0, 0, 26 px down, then stands still.
-  const std::vector<ClipFrame> frames = {Render(0, 300, 100), Render(4, 300, 100),
-                                         Render(8, 300, 126), Render(48, 300, 126)};
-  const Rigid3d exact = Motion(frames, 3);
+  const std::vector<ClipFrame> frames = {
+      RenderWallAndBox(0, 300, 100), RenderWallAndBox(4, 300, 100), RenderWallAndBox(8, 300, 126),
+      RenderWallAndBox(48, 300, 126)};
+  const Rigid3d exact = CameraMotion(frames, 3);
   const Carried right = Run(frames, exact);
   const Carried still = Run(frames, Rigid3d());
   const Carried backwards = Run(frames, exact.Inverse());
@@ -130,6 +135,89 @@ TEST_F(CarryUnderLargeMotion, TheMaskLandsWhereTheCameraMotionPutsTheObject) {
     EXPECT_LT(wrong->recall, right.recall - 0.3);
     EXPECT_LT(wrong->box_in_mask, right.box_in_mask - 0.3);
   }
+}
+
+// The quiet schedule (FastOptions::quiet_*): the camera translates along x, the box stands still
+// for frames 0-7 (a quiet scene), then moves down 6 px per frame. What the filter does per frame.
+struct QuietFrame {
+  bool analysed = false;  // the cues ran (false: carried)
+  int tracked = 0, removed = 0, box_keypoints = 0, box_removed = 0;
+};
+
+std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames) {
+  FastFilter filter(options, FastTestCamera());
+  const OrbExtractor extractor;
+  std::vector<QuietFrame> result;
+  std::vector<ClipFrame> clip;
+  constexpr int kStill = 8;
+  for (int i = 0; i < frames; ++i) {
+    clip.push_back(RenderWallAndBox(4 * i, 300, 100 + 6 * std::max(0, i - kStill + 1)));
+  }
+  for (size_t i = 0; i < clip.size(); ++i) {
+    const ClipFrame& f = clip[i];
+    const KeypointSet set = extractor.Detect(f.gray);
+    FilterInput input = ClipInput(f, set, i);
+    if (i > 0) input.predicted_cam_from_previous_cam = CameraMotion(clip, i);
+    const FilterOutput out = filter.Filter(input);
+    QuietFrame q;
+    q.analysed = filter.info().has_previous;
+    q.tracked = filter.info().num_tracked;
+    q.removed = filter.info().num_removed;
+    for (size_t k = 0; k < set.keypoints.size(); ++k) {
+      const bool on_box = f.mask.at<uint8_t>(KeypointPixel(set.keypoints[k], f.mask.size())) != 0;
+      q.box_keypoints += on_box;
+      q.box_removed += on_box && !out.keep[k];
+    }
+    result.push_back(q);
+  }
+  return result;
+}
+
+TEST(FastQuietSchedule, OffByDefaultEveryFrameAnalysedWithAllItsPoints) {
+  const std::vector<QuietFrame> frames = RunQuietScene(FastOptions(), 12);
+  for (size_t i = 1; i < frames.size(); ++i) {
+    EXPECT_TRUE(frames[i].analysed) << i;
+    EXPECT_GT(frames[i].tracked, 300) << i;
+  }
+}
+
+TEST(FastQuietSchedule, EveryThirdFrameCarriedWhileQuietEveryFrameOnceTheBoxMoves) {
+  FastOptions options;
+  options.quiet_analyse_every = 2;
+  const std::vector<QuietFrame> frames = RunQuietScene(options, 14);
+  // Two quiet analyses in a row, then one carried frame: 1, 2 analysed, 3 carried, 4, 5
+  // analysed, 6 carried, 7 analysed.
+  for (int i : {1, 2, 4, 5, 7}) EXPECT_TRUE(frames[i].analysed) << i;
+  for (int i : {3, 6}) EXPECT_FALSE(frames[i].analysed) << i;
+  // The box moves from frame 8 on (analysed: 7 was the first after a carry); every frame after
+  // is analysed.
+  for (int i = 8; i < 14; ++i) {
+    EXPECT_TRUE(frames[i].analysed) << i;
+    ASSERT_GT(frames[i].box_keypoints, 40) << i;
+    EXPECT_GE(static_cast<double>(frames[i].box_removed) / frames[i].box_keypoints, 0.8) << i;
+  }
+}
+
+TEST(FastQuietSchedule, OnlyWithFlowAndRegionsElseEveryFrameAnalysed) {
+  // A carried frame needs flow (its LK pyramid) and the suspect map: without them the schedule
+  // is ignored, not an error (fast mode's default schedule must not reject descriptors).
+  for (const bool descriptors : {true, false}) {
+    FastOptions options;
+    options.quiet_analyse_every = 2;
+    if (descriptors) {
+      options.correspondences = "descriptors";
+    } else {
+      options.use_region = false;
+    }
+    const std::vector<QuietFrame> frames = RunQuietScene(options, 8);
+    for (size_t i = 1; i < frames.size(); ++i) EXPECT_TRUE(frames[i].analysed) << i;
+  }
+  FastOptions options;
+  options.quiet_min_analyses = 0;
+  EXPECT_THROW(options.Validate(), InputError);
+  options = FastOptions();
+  options.quiet_analyse_every = 9;
+  EXPECT_THROW(options.Validate(), InputError);
 }
 
 }  // namespace

@@ -57,8 +57,23 @@ bool FastFilter::MaskCoversDetections() const {
          info_.num_removed >= options_.refill_min_removed_fraction * info_.num_keypoints;
 }
 
+int FastFilter::AnalysisInterval() const {
+  const bool can_carry = options_.method() == CorrespondenceMethod::kOpticalFlow &&
+                         options_.use_region && options_.suspect_frames > 0;
+  if (can_carry && quiet_analyses_ >= options_.quiet_min_analyses)
+    return std::max(options_.analyse_every, options_.quiet_analyse_every);
+  return options_.analyse_every;
+}
+
+bool FastFilter::LastAnalysisQuiet() const {
+  if (!info_.has_previous || info_.num_regions > 0 ||
+      info_.num_removed > options_.quiet_max_removed)
+    return false;
+  return suspect_.empty() || cv::countNonZero(suspect_.Suspect(options_.suspect_frames)) == 0;
+}
+
 FilterOutput FastFilter::Filter(const FilterInput& input) {
-  if (has_previous_ && frames_since_analysis_ + 1 < options_.analyse_every) {
+  if (has_previous_ && frames_since_analysis_ + 1 < AnalysisInterval()) {
     ++frames_since_analysis_;
     return CarryForward(input);
   }
@@ -66,6 +81,10 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   timing_ = FastTiming();
   info_ = FastFrameInfo();
   FrameWork w(input, options_);
+  // A quiet streak counts consecutive analysed frames: after a carried one it starts again (the
+  // first analysis after a carry has no track history nor flagged keypoints to confirm a lone
+  // seed, so a mover entering then is confirmed by the next analysis).
+  const bool after_carry = frames_since_analysis_ > 0;
   frames_since_analysis_ = 0;
   info_.num_keypoints = static_cast<int>(w.n);
   FilterOutput out;
@@ -116,6 +135,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   previous_history_ = std::move(w.history);
   previous_depth_ = w.depth.clone();
   KeepPreviousMask(w.final_mask, w.depth.size());
+  quiet_analyses_ = LastAnalysisQuiet() ? (after_carry ? 1 : quiet_analyses_ + 1) : 0;
   timing_.total_ms = total.ElapsedMs();
   total_timing_ += timing_;
   ++frames_;
@@ -143,6 +163,7 @@ FilterOutput FastFilter::CarryForward(const FilterInput& input) {
   FilterOutput out;
   out.keep.assign(n, true);
   out.judged = judged_once_;
+  out.analysed = false;
   cue_bits_.assign(n, 0);
   last_p1_.clear();
   last_residual_.assign(n, -1.f);

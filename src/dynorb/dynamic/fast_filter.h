@@ -140,6 +140,10 @@ class FastFilter : public KeypointFilter {
   // an analysis has judged a frame (had a previous one).
   int frames_since_analysis_ = 0;
   bool judged_once_ = false;
+  // Analysed frames in a row that were quiet (FastOptions::quiet_analyse_every).
+  int quiet_analyses_ = 0;
+  int AnalysisInterval() const;  // the current analyse_every (quiet schedule applied)
+  bool LastAnalysisQuiet() const;
   // Diagnostics.
   FastTiming timing_, total_timing_;
   int frames_ = 0;

@@ -57,6 +57,10 @@ void FastOptions::Validate() const {
   Require(analyse_every == 1 || (use_region && suspect_frames > 0),
           "analyse_every > 1 needs use_region and suspect_frames > 0 (the frames between analyses "
           "carry the suspect map)");
+  Require(quiet_analyse_every >= 1 && quiet_analyse_every <= 8,
+          "quiet_analyse_every must be in [1, 8]");
+  Require(quiet_min_analyses >= 1, "quiet_min_analyses must be >= 1");
+  Require(quiet_max_removed >= 0, "quiet_max_removed must be >= 0");
   Require(carry_reach_px >= 0.0 && carry_reach_px <= 64.0, "carry_reach_px must be in [0, 64]");
   Require(suspect_depth_m > 0.0, "suspect_depth_m must be > 0");
   Require(track_history >= 1 && track_history <= 16, "track_history must be in [1, 16]");

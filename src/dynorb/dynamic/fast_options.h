@@ -128,6 +128,16 @@ struct FastOptions {
   // starts its keypoints without history, and flags only what it removed.
   int analyse_every = 1;
   double carry_reach_px = 8.0;
+  // Quiet scenes (session 50): after quiet_min_analyses consecutive analysed frames that grew no
+  // region, had no suspect cell left and removed at most quiet_max_removed keypoints, the next
+  // quiet_analyse_every - 1 frames are carried (as above); then the streak starts again, so with
+  // the defaults 2 / 2 the frames go analysed, analysed, carried, ... until an analysis is not
+  // quiet. A mover entering a quiet scene is found up to quiet_analyse_every - 1 frames late.
+  // 1: off. Applies only with flow correspondences, use_region and suspect_frames > 0 (what a
+  // carried frame needs); otherwise every frame is analysed.
+  int quiet_analyse_every = 1;
+  int quiet_min_analyses = 2;
+  int quiet_max_removed = 5;
   // --- Refill (SystemOptions::refill_filtered).
   // When a frame's removals reach this fraction of its keypoints (and it has a grown region),
   // the mask is taken to cover the movers (KeypointFilter::MaskCoversDetections): the System

@@ -44,6 +44,9 @@ struct FilterOutput {
   // previous frame). The System does not initialize the map from such a frame: its unjudged
   // keypoints would put the movers into the first keyframe.
   bool judged = true;
+  // False when the filter carried its earlier result to this frame instead of analysing it (the
+  // FAST cues between analyses: fast.analyse_every, fast.quiet_analyse_every).
+  bool analysed = true;
 };
 
 class KeypointFilter {

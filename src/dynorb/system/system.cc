@@ -263,6 +263,7 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
       throw std::logic_error("keypoint filter returned a wrong-sized keep vector");
     keep = std::move(out.keep);
     record.judged = out.judged;
+    record.analysed = out.analysed;
     record.timing.filter_ms = watch.ElapsedMs();
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;

@@ -97,6 +97,8 @@ struct FrameRecord {
   bool pipelined = false;   // This frame's front end ran on the worker thread (pipelining).
   bool judged = true;       // The filter judged this frame (FilterOutput::judged); false: its
                             // keypoints were withheld if the map was not initialized yet.
+  bool analysed = true;     // The filter analysed this frame (FilterOutput::analysed); false: it
+                            // carried its earlier result (the FAST cues between analyses).
   FrameTiming timing;
   std::vector<bool> keep;  // Filter decision per detected keypoint (empty without a filter).
   std::vector<cv::KeyPoint> detected;  // Detected keypoints (kept only when record_keypoints).
