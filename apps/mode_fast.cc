@@ -154,8 +154,8 @@ std::unique_ptr<KeypointFilter> FastModeFactory::Create(const RunModeContext& co
 namespace {
 // FastOptions' defaults except the quiet schedule: every third frame of a quiet scene carried
 // (session 50, docs/results.md: the 12 cuts and their twins x 3 replicates, mean ATE 3.540 ->
-// 3.499 mm, recall of the moving keypoints >= 0.909; 8 % of the frames carried where people walk,
-// 32 % without them). Fused mode keeps analysing every frame (not measured with it).
+// 3.499 mm, recall of the moving keypoints >= 0.909; 7-12 % of the frames carried where people
+// walk, a third without them). Fused mode keeps analysing every frame (not measured with it).
 FastOptions FastModeDefaults() {
   FastOptions o;
   o.quiet_analyse_every = 2;
