@@ -173,6 +173,7 @@ std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames) {
   return result;
 }
 
+// FastOptions' default is off (1); `dynorb run --mode fast` sets 2 (apps/mode_fast.cc).
 TEST(FastQuietSchedule, OffByDefaultEveryFrameAnalysedWithAllItsPoints) {
   const std::vector<QuietFrame> frames = RunQuietScene(FastOptions(), 12);
   for (size_t i = 1; i < frames.size(); ++i) {

@@ -15,7 +15,9 @@
 //     seed and every flagged track is removed (keep = false).
 // With FastOptions::analyse_every N > 1 the steps run on every Nth frame only; the frames between
 // carry the suspect map by the tracker's motion prediction and remove what lies in it
-// (CarryForward: ~1.4 ms instead of ~6; session 41, docs/fast_mode.md).
+// (CarryForward: ~1.4 ms instead of ~6; session 41, docs/fast_mode.md). With
+// FastOptions::quiet_analyse_every N > 1 the same carry takes N - 1 frames after every two
+// consecutive quiet analyses (no region, no suspect cell, few removals; session 50).
 // Code: fast_filter.cc (Filter; correspondences, ego-motion, warp residual, F),
 // fast_filter_classify.cc (cues and fusion, track memory, suspect map, regions, removal, overlay).
 // Owns the previous frame's LK pyramid, keypoints, descriptors (descriptor mode), depth, track
