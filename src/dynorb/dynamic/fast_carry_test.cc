@@ -66,6 +66,22 @@ Rigid3d CameraMotion(const std::vector<ClipFrame>& frames, size_t i) {
   return frames[i].world_from_cam.Inverse() * frames[i - 1].world_from_cam;
 }
 
+// The keypoints on the box (mask != 0), how many of them the filter removed, and how many it
+// removed off the box.
+struct BoxCount {
+  int keypoints = 0, removed = 0, removed_off = 0;
+};
+BoxCount CountOnBox(const KeypointSet& set, const cv::Mat& mask, const FilterOutput& out) {
+  BoxCount c;
+  for (size_t k = 0; k < set.keypoints.size(); ++k) {
+    const bool on_box = mask.at<uint8_t>(KeypointPixel(set.keypoints[k], mask.size())) != 0;
+    c.keypoints += on_box;
+    c.removed += on_box && !out.keep[k];
+    c.removed_off += !on_box && !out.keep[k];
+  }
+  return c;
+}
+
 class CarryUnderLargeMotion : public ::testing::Test {
  protected:
   struct Carried {
@@ -94,14 +110,10 @@ class CarryUnderLargeMotion : public ::testing::Test {
         EXPECT_GT(filter.info().num_removed, 20) << "the analysed frame finds the box";
       }
       if (i != 3) continue;
-      int removed_on_box = 0;
-      for (size_t k = 0; k < set.keypoints.size(); ++k) {
-        const bool on_box = f.mask.at<uint8_t>(KeypointPixel(set.keypoints[k], f.mask.size())) != 0;
-        result.box_keypoints += on_box;
-        removed_on_box += on_box && !out.keep[k];
-        result.removed_off_box += !on_box && !out.keep[k];
-      }
-      result.recall = static_cast<double>(removed_on_box) / std::max(1, result.box_keypoints);
+      const BoxCount box = CountOnBox(set, f.mask, out);
+      result.box_keypoints = box.keypoints;
+      result.removed_off_box = box.removed_off;
+      result.recall = static_cast<double>(box.removed) / std::max(1, box.keypoints);
       if (out.dynamic_mask.empty()) continue;
       const double on_box = cv::countNonZero(out.dynamic_mask & f.mask);
       result.mask_on_box = on_box / std::max(1, cv::countNonZero(out.dynamic_mask));
@@ -163,11 +175,9 @@ std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames) {
     q.analysed = filter.info().has_previous;
     q.tracked = filter.info().num_tracked;
     q.removed = filter.info().num_removed;
-    for (size_t k = 0; k < set.keypoints.size(); ++k) {
-      const bool on_box = f.mask.at<uint8_t>(KeypointPixel(set.keypoints[k], f.mask.size())) != 0;
-      q.box_keypoints += on_box;
-      q.box_removed += on_box && !out.keep[k];
-    }
+    const BoxCount box = CountOnBox(set, f.mask, out);
+    q.box_keypoints = box.keypoints;
+    q.box_removed = box.removed;
     result.push_back(q);
   }
   return result;

@@ -58,9 +58,7 @@ bool FastFilter::MaskCoversDetections() const {
 }
 
 int FastFilter::AnalysisInterval() const {
-  const bool can_carry = options_.method() == CorrespondenceMethod::kOpticalFlow &&
-                         options_.use_region && options_.suspect_frames > 0;
-  if (can_carry && quiet_analyses_ >= options_.quiet_min_analyses)
+  if (options_.CanCarry() && quiet_analyses_ >= options_.quiet_min_analyses)
     return std::max(options_.analyse_every, options_.quiet_analyse_every);
   return options_.analyse_every;
 }

@@ -146,6 +146,11 @@ struct FastOptions {
   double refill_min_removed_fraction = 0.0;
   uint64_t seed = 0;                  // RNG seed for RANSAC (cv::setRNGSeed)
 
+  // Whether frames can be carried between analyses (analyse_every, quiet_analyse_every): the LK
+  // pyramid and the suspect map they need.
+  bool CanCarry() const {
+    return method() == CorrespondenceMethod::kOpticalFlow && use_region && suspect_frames > 0;
+  }
   CorrespondenceMethod method() const {
     return correspondences == "descriptors" ? CorrespondenceMethod::kDescriptors
                                             : CorrespondenceMethod::kOpticalFlow;
