@@ -76,7 +76,11 @@ RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vect
   RegionResult result;
   const int s = options.scale;
   const cv::Size low_size = low.size();
-  cv::Mat labels(low_size, CV_32S, cv::Scalar(-1));
+  const int width = low_size.width, height = low_size.height;
+  // Flat row-major views: the flood fill below visits every pixel of large regions.
+  const cv::Mat depth = low.isContinuous() ? low : low.clone();
+  const float* z = depth.ptr<float>();
+  std::vector<int> labels(static_cast<size_t>(low_size.area()), -1);
   struct Region {
     int seeds = 0, statics = 0, area = 0;
     bool suspect = false;
@@ -84,21 +88,22 @@ RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vect
     float motion_norm_sum = 0.f;
   };
   std::vector<Region> regions;
-  std::vector<cv::Point> queue;
+  std::vector<int> queue;
   for (const RegionPoint& seed : seeds) {
     if (seed.depth_m <= 0.f) continue;
     const cv::Point c = LowPixel(seed.pixel, s, low_size);
     // Start at the 3×3 low-resolution pixel whose depth is closest to the seed's.
-    cv::Point start(-1, -1);
+    int start = -1;
     float best = static_cast<float>(options.band_m);
-    for (int y = std::max(0, c.y - 1); y <= std::min(low_size.height - 1, c.y + 1); ++y) {
-      for (int x = std::max(0, c.x - 1); x <= std::min(low_size.width - 1, c.x + 1); ++x) {
-        const float z = low.at<float>(y, x);
-        if (z > 0.f && std::abs(z - seed.depth_m) < best) best = std::abs(z - seed.depth_m), start = {x, y};
+    for (int y = std::max(0, c.y - 1); y <= std::min(height - 1, c.y + 1); ++y) {
+      for (int x = std::max(0, c.x - 1); x <= std::min(width - 1, c.x + 1); ++x) {
+        const float zs = z[y * width + x];
+        if (zs > 0.f && std::abs(zs - seed.depth_m) < best)
+          best = std::abs(zs - seed.depth_m), start = y * width + x;
       }
     }
-    if (start.x < 0) continue;
-    const int existing = labels.at<int>(start);
+    if (start < 0) continue;
+    const int existing = labels[start];
     const float motion_norm = std::hypot(seed.motion.x, seed.motion.y);
     if (existing >= 0) {
       ++regions[existing].seeds;
@@ -108,37 +113,42 @@ RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vect
     }
     const int label = static_cast<int>(regions.size());
     regions.push_back({1, 0, 0, false, seed.motion, motion_norm});
-    const float z_ref = low.at<float>(start);
+    const float z_ref = z[start];
     queue.clear();
     queue.push_back(start);
-    labels.at<int>(start) = label;
+    labels[start] = label;
+    // Breadth first, neighbours right, left, down, up.
+    auto visit = [&](int n, float zp, float step) {
+      if (labels[n] >= 0) return;
+      const float zn = z[n];
+      if (zn <= 0.f || std::abs(zn - zp) > step || std::abs(zn - z_ref) > options.band_m) return;
+      labels[n] = label;
+      queue.push_back(n);
+    };
     for (size_t q = 0; q < queue.size(); ++q) {
-      const cv::Point p = queue[q];
-      const float zp = low.at<float>(p);
+      const int p = queue[q];
+      const int x = p % width, y = p / width;
+      const float zp = z[p];
       const float step = static_cast<float>(options.edge_abs_m + options.edge_rel * zp);
-      static const cv::Point kNeighbours[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-      for (const cv::Point& d : kNeighbours) {
-        const cv::Point n = p + d;
-        if (n.x < 0 || n.y < 0 || n.x >= low_size.width || n.y >= low_size.height) continue;
-        if (labels.at<int>(n) >= 0) continue;
-        const float zn = low.at<float>(n);
-        if (zn <= 0.f || std::abs(zn - zp) > step || std::abs(zn - z_ref) > options.band_m) continue;
-        labels.at<int>(n) = label;
-        queue.push_back(n);
-      }
+      if (x + 1 < width) visit(p + 1, zp, step);
+      if (x > 0) visit(p - 1, zp, step);
+      if (y + 1 < height) visit(p + width, zp, step);
+      if (y > 0) visit(p - width, zp, step);
     }
     regions[label].area = static_cast<int>(queue.size());
   }
   result.num_regions = static_cast<int>(regions.size());
   for (const RegionPoint& p : statics) {
-    const int label = labels.at<int>(LowPixel(p.pixel, s, low_size));
+    const cv::Point lp = LowPixel(p.pixel, s, low_size);
+    const int label = labels[lp.y * width + lp.x];
     if (label >= 0) ++regions[label].statics;
   }
   if (!suspect_low.empty()) {
-    for (int y = 0; y < low_size.height; ++y) {
-      for (int x = 0; x < low_size.width; ++x) {
-        const int label = labels.at<int>(y, x);
-        if (label >= 0 && suspect_low.at<uint8_t>(y, x)) regions[label].suspect = true;
+    for (int y = 0; y < height; ++y) {
+      const uint8_t* row = suspect_low.ptr<uint8_t>(y);
+      const int* label_row = labels.data() + y * width;
+      for (int x = 0; x < width; ++x) {
+        if (label_row[x] >= 0 && row[x]) regions[label_row[x]].suspect = true;
       }
     }
   }
@@ -158,10 +168,13 @@ RegionResult GrowRegions(const cv::Mat& low, cv::Size full_size, const std::vect
     }
   }
   result.low_mask = cv::Mat::zeros(low_size, CV_8U);
-  for (int y = 0; y < low_size.height; ++y) {
-    for (int x = 0; x < low_size.width; ++x) {
-      const int label = labels.at<int>(y, x);
-      if (label >= 0 && accepted[label]) result.low_mask.at<uint8_t>(y, x) = 255;
+  if (result.num_accepted > 0) {
+    for (int y = 0; y < height; ++y) {
+      uint8_t* row = result.low_mask.ptr<uint8_t>(y);
+      const int* label_row = labels.data() + y * width;
+      for (int x = 0; x < width; ++x) {
+        if (label_row[x] >= 0 && accepted[label_row[x]]) row[x] = 255;
+      }
     }
   }
   result.mask = UpsampleAndDilate(result.low_mask, s, full_size, result.num_accepted > 0 ? options.dilate_px : 0);

@@ -91,6 +91,37 @@ TEST(GrowRegions, SeedsGrowToTheDepthSegment) {
   EXPECT_EQ(GrowRegions(low, depth.size(), {seeds[0]}, statics, suspect, options).num_accepted, 1);
 }
 
+// A mover that touches all four image borders is grown to exactly its low-resolution pixels
+// (the flood fill reaches the first and last rows and columns and never wraps from one row's end
+// to the next row's start); a depth map that is a view into a larger one gives the same result.
+TEST(GrowRegions, ReachesEveryBorderAndAcceptsAView) {
+  RegionOptions options;
+  options.max_area = 1.0;
+  cv::Mat big(140, 180, CV_32F, cv::Scalar(3.f));
+  const cv::Rect view(10, 10, 160, 120);
+  cv::Mat low = big(view);
+  ASSERT_FALSE(low.isContinuous());
+  low(cv::Rect(0, 50, 160, 20)).setTo(1.5f);  // a band from the left to the right border
+  low(cv::Rect(70, 0, 20, 120)).setTo(1.5f);  // and from the top to the bottom border
+  low(cv::Rect(159, 29, 1, 21)).setTo(1.5f);  // the last column up from the band to row 29
+  low(cv::Rect(0, 69, 1, 23)).setTo(1.5f);    // the first column down from the band to row 91
+  // Row 30's first pixel follows row 29's last one in memory, and row 90's last pixel precedes
+  // row 91's first one, but both are cut off from the band.
+  low.at<float>(30, 0) = 1.5f;
+  low.at<float>(90, 159) = 1.5f;
+  const cv::Size full(640, 480);
+  const std::vector<RegionPoint> seeds = {{{320.f, 240.f}, 1.5f, {2.f, 0.f}},
+                                          {{330.f, 250.f}, 1.5f, {2.f, 0.f}}};
+  const RegionResult from_view = GrowRegions(low, full, seeds, {}, cv::Mat(), options);
+  ASSERT_EQ(from_view.num_regions, 1);
+  ASSERT_EQ(from_view.num_accepted, 1);
+  cv::Mat expected = low == 1.5f;
+  expected.at<uint8_t>(30, 0) = expected.at<uint8_t>(90, 159) = 0;
+  EXPECT_EQ(cv::countNonZero(from_view.low_mask != expected), 0);
+  const RegionResult from_copy = GrowRegions(low.clone(), full, seeds, {}, cv::Mat(), options);
+  EXPECT_EQ(cv::countNonZero(from_copy.low_mask != from_view.low_mask), 0);
+  EXPECT_EQ(cv::countNonZero(from_copy.mask != from_view.mask), 0);
+}
 TEST(Suspect, PropagatesWhereDepthMatchesAndExpires) {
   const PinholeCamera camera = TumFreiburg3Camera();
   const int s = 4;

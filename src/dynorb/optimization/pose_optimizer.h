@@ -103,7 +103,8 @@ PoseOptimizerResult OptimizePose(const PinholeCamera& camera, double bf,
 
 // Plain least-squares refinement (no robust kernel, no outlier rounds, unit weights) of
 // cam_from_world from the monocular pixels of points given in world coordinates:
-// Levenberg–Marquardt from the initial pose, at most max_iterations (>= 1) iterations, all points
+// Levenberg–Marquardt from the initial pose, at most max_iterations (>= 1) iterations (fewer once
+// converged by Ceres' default tolerances), all points
 // in one residual block (cheap enough to call tens of times per frame: the FAST filter's
 // ego-motion). std::nullopt with fewer than 3 points or when the solver gives no usable finite
 // result. One pixel per point (checked, aborts). Deterministic.

@@ -436,7 +436,9 @@ TEST(PoseOptimizer, DepthFallbackKeepsThePixelOfAWrongDepth) {
       if (wrong_depth[i]) {
         ++wrong;
         wrong_kept += r.inlier[i] ? 1 : 0;
-        if (r.inlier[i]) EXPECT_TRUE(r.depth_dropped[i]) << i;
+        if (r.inlier[i]) {
+          EXPECT_TRUE(r.depth_dropped[i]) << i;
+        }
       } else if (s.is_outlier[i]) {
         ++outliers;
         outliers_kept += r.inlier[i] ? 1 : 0;
