@@ -35,6 +35,12 @@ void FastModeFactory::BindConfig(ConfigSchema* schema) {
           "lk_base_first_px", &o.lk_base_first_px,
           "with a prediction: LK on the base image first, points ending farther than this from the "
           "prediction tracked again through the whole pyramid (px; 0: whole pyramid for all)")
+      .Add("lk_base_shift_min_points", &o.lk_base_shift_min_points,
+           "with lk_base_first_px, on the analysis after a carried frame: the base pass's median "
+           "offset from the predictions is removed before that test and the retracks start from "
+           "prediction + offset, when at least this many points converged (0: off)")
+      .Add("lk_base_shift_always", &o.lk_base_shift_always,
+           "lk_base_shift_min_points on every analysis, not only after a carried frame")
       .Add("lk_base_window_px", &o.lk_base_window_px,
            "LK window of the first base-image pass (px, odd, <= lk_window_px; 0: lk_window_px)")
       .Add("ego_skip_previous_mask", &o.ego_skip_previous_mask,

@@ -153,17 +153,20 @@ TEST_F(CarryUnderLargeMotion, TheMaskLandsWhereTheCameraMotionPutsTheObject) {
 // for frames 0-7 (a quiet scene), then moves down 6 px per frame. What the filter does per frame.
 struct QuietFrame {
   bool analysed = false;  // the cues ran (false: carried)
-  int tracked = 0, removed = 0, box_keypoints = 0, box_removed = 0;
+  int tracked = 0, retracked = 0, removed = 0, box_keypoints = 0, box_removed = 0;
 };
 
-std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames) {
+// wall_px: the camera's position per frame (the wall's image shift, px); empty: 4 px per frame.
+std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames,
+                                      const std::vector<int>& wall_px = {}) {
   FastFilter filter(options, FastTestCamera());
   const OrbExtractor extractor;
   std::vector<QuietFrame> result;
   std::vector<ClipFrame> clip;
   constexpr int kStill = 8;
   for (int i = 0; i < frames; ++i) {
-    clip.push_back(RenderWallAndBox(4 * i, 300, 100 + 6 * std::max(0, i - kStill + 1)));
+    const int camera_px = wall_px.empty() ? 4 * i : wall_px[i];
+    clip.push_back(RenderWallAndBox(camera_px, 300, 100 + 6 * std::max(0, i - kStill + 1)));
   }
   for (size_t i = 0; i < clip.size(); ++i) {
     const ClipFrame& f = clip[i];
@@ -174,6 +177,7 @@ std::vector<QuietFrame> RunQuietScene(const FastOptions& options, int frames) {
     QuietFrame q;
     q.analysed = filter.info().has_previous;
     q.tracked = filter.info().num_tracked;
+    q.retracked = filter.info().num_retracked;
     q.removed = filter.info().num_removed;
     const BoxCount box = CountOnBox(set, f.mask, out);
     q.box_keypoints = box.keypoints;
@@ -229,6 +233,47 @@ TEST(FastQuietSchedule, OnlyWithFlowAndRegionsElseEveryFrameAnalysed) {
   options = FastOptions();
   options.quiet_analyse_every = 9;
   EXPECT_THROW(options.Validate(), InputError);
+}
+
+// The camera speeds up (4, then 6, then 9 px per frame on the wall) while the box stands: the
+// LK guesses of frame 2 and of frame 4 (the analysis after the carried frame 3) come from the
+// previous, slower motion. By default only frame 4 removes the shared offset of its guesses
+// before the retrack test; lk_base_shift_always does it on frame 2 too.
+TEST(FastQuietSchedule, TheAnalysisAfterACarryRemovesItsGuessesSharedError) {
+  const std::vector<int> wall_px = {0, 4, 10, 16, 25, 34, 43, 52};
+  FastOptions off;
+  off.quiet_analyse_every = 2;
+  off.lk_base_shift_min_points = 0;
+  FastOptions after_carry = off;
+  after_carry.lk_base_shift_min_points = FastOptions().lk_base_shift_min_points;
+  FastOptions always = after_carry;
+  always.lk_base_shift_always = true;
+  const int n = static_cast<int>(wall_px.size());
+  const std::vector<QuietFrame> a = RunQuietScene(off, n, wall_px);
+  const std::vector<QuietFrame> b = RunQuietScene(after_carry, n, wall_px);
+  const std::vector<QuietFrame> c = RunQuietScene(always, n, wall_px);
+  for (const std::vector<QuietFrame>* run : {&a, &b, &c}) {
+    for (int i : {1, 2, 4, 5, 7}) EXPECT_TRUE((*run)[i].analysed) << i;
+    for (int i : {3, 6}) EXPECT_FALSE((*run)[i].analysed) << i;
+  }
+  // Frame 2: a guess 2 px off on the wall, 4 px on the box; only lk_base_shift_always shifts.
+  EXPECT_GT(a[2].retracked, 0.9 * a[2].tracked);
+  EXPECT_EQ(b[2].retracked, a[2].retracked);
+  EXPECT_LT(c[2].retracked, 0.3 * c[2].tracked);
+  // Frame 4, after the carry: 3 px off on the wall; shifted by default, only the box's points
+  // (a fifth of them) are tracked again.
+  EXPECT_GT(a[4].retracked, 0.9 * a[4].tracked);
+  EXPECT_LT(b[4].retracked, 0.3 * b[4].tracked);
+  EXPECT_LT(c[4].retracked, 0.3 * c[4].tracked);
+  // The same tracks found, and the standing box kept.
+  for (int i = 1; i < n; ++i) {
+    EXPECT_NEAR(b[i].tracked, a[i].tracked, 5) << i;
+    EXPECT_LE(b[i].removed, 5) << i;
+    EXPECT_EQ(b[i].box_removed, 0) << i;
+  }
+  FastOptions bad;
+  bad.lk_base_shift_min_points = -1;
+  EXPECT_THROW(bad.Validate(), InputError);
 }
 
 }  // namespace

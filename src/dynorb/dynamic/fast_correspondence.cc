@@ -17,12 +17,32 @@ std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& option
 
 namespace {
 
+// Per-axis median of result - guess over the points that converged (status set, residual at most
+// max_residual); zero with fewer than min_points of them.
+cv::Point2f MedianOffset(const std::vector<cv::Point2f>& result,
+                         const std::vector<cv::Point2f>& guess, const std::vector<uint8_t>& status,
+                         const std::vector<float>& error, float max_residual, int min_points) {
+  std::vector<float> dx, dy;
+  for (size_t i = 0; i < result.size(); ++i) {
+    if (!status[i] || error[i] > max_residual) continue;
+    dx.push_back(result[i].x - guess[i].x);
+    dy.push_back(result[i].y - guess[i].y);
+  }
+  if (static_cast<int>(dx.size()) < min_points) return {0.f, 0.f};
+  const size_t mid = dx.size() / 2;
+  std::nth_element(dx.begin(), dx.begin() + mid, dx.end());
+  std::nth_element(dy.begin(), dy.begin() + mid, dy.end());
+  return {dx[mid], dy[mid]};
+}
+
 // LK on the base image only from the guesses in *previous (cheap: a good guess converges there);
 // the points that end farther than base_first_px from their guess, fail, or end with a large
 // residual are tracked again through the whole pyramid from their guess.
-void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& current_pyramid,
-                    const std::vector<cv::Point2f>& current, const LkOptions& options,
-                    std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
+// Returns the number of points tracked again.
+int TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid,
+                   const std::vector<cv::Mat>& current_pyramid,
+                   const std::vector<cv::Point2f>& current, const LkOptions& options,
+                   std::vector<cv::Point2f>* previous, std::vector<uint8_t>* status) {
   const cv::Size window(options.window_px, options.window_px);
   const int base_side = options.base_window_px > 0 ? options.base_window_px : options.window_px;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
@@ -43,19 +63,23 @@ void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vec
     std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
     max_residual = 3.f * residuals[residuals.size() / 2];
   }
+  const cv::Point2f shift = options.base_shift_min_points > 0
+                                ? MedianOffset(*previous, guess, *status, error, max_residual,
+                                               options.base_shift_min_points)
+                                : cv::Point2f(0.f, 0.f);
   const double max2 = options.base_first_px * options.base_first_px;
   std::vector<int> again;
   for (size_t i = 0; i < current.size(); ++i) {
-    const cv::Point2f d = (*previous)[i] - guess[i];
+    const cv::Point2f d = (*previous)[i] - guess[i] - shift;
     if (!(*status)[i] || d.x * d.x + d.y * d.y > max2 || error[i] > max_residual) {
       again.push_back(static_cast<int>(i));
     }
   }
-  if (again.empty() || options.levels == 0) return;
+  if (again.empty() || options.levels == 0) return 0;
   std::vector<cv::Point2f> from, to;
   for (int i : again) {
     from.push_back(current[i]);
-    to.push_back(guess[i]);
+    to.push_back(guess[i] + shift);
   }
   std::vector<uint8_t> again_status;
   cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, from, to, again_status, error, window, options.levels,
@@ -64,6 +88,7 @@ void TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid, const std::vec
     (*previous)[again[k]] = to[k];
     (*status)[again[k]] = again_status[k];
   }
+  return static_cast<int>(again.size());
 }
 
 }  // namespace
@@ -83,7 +108,8 @@ Correspondences TrackWithFlow(const std::vector<cv::Mat>& previous_pyramid, cons
   std::vector<uint8_t> status, back_status;
   std::vector<float> error;
   if (options.base_first_px > 0.0 && initial_previous.size() == n) {
-    TrackBaseFirst(previous_pyramid, current_pyramid, current, options, &c.previous, &status);
+    c.num_retracked =
+        TrackBaseFirst(previous_pyramid, current_pyramid, current, options, &c.previous, &status);
   } else {
     cv::calcOpticalFlowPyrLK(current_pyramid, previous_pyramid, current, c.previous, status, error, window,
                              options.levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
@@ -129,6 +155,7 @@ Correspondences TrackSubsetWithFlow(const std::vector<cv::Mat>& previous_pyramid
     c.for_f[indices[k]] = sub.for_f[k];
   }
   c.num_valid = sub.num_valid;
+  c.num_retracked = sub.num_retracked;
   return c;
 }
 

@@ -23,6 +23,7 @@ struct Correspondences {
   std::vector<uint8_t> for_f;         // 1 = used to estimate the fundamental matrix
   std::vector<int> previous_index;    // descriptors: the matched previous keypoint (-1: none; empty for flow)
   int num_valid = 0;
+  int num_retracked = 0;  // flow, base image first: points tracked again through the pyramid
 };
 
 struct LkOptions {
@@ -39,6 +40,11 @@ struct LkOptions {
   // whole pyramid for every point.
   double base_first_px = 0.0;
   int base_window_px = 0;  // window of that base-image pass (0: window_px)
+  // With base_first_px: the median offset of the base pass's converged results from their
+  // guesses (a shared error of the prediction, e.g. the camera's rotation jitter) is removed
+  // before the base_first_px test, and the retracks start from guess + offset. Needs at least
+  // base_shift_min_points converged points (0: off).
+  int base_shift_min_points = 0;
   // Levels above the base image of the backward check (< 0 or > levels: all `levels`). It starts
   // from the point's current position, the right answer whenever the forward track was right.
   int backward_levels = -1;

@@ -76,8 +76,8 @@ TEST(LkFlow, BackwardCheckOnASubsetInvalidatesOnlyBadTracks) {
   }
 }
 
-// A textured image pair shifted by (3, 1) px, and one guess per point: 0.5 px off for most, far
-// off (a mover the prediction does not know) for the right third of the points.
+// A textured image pair shifted by (3, 1) px, and one guess per point: good_offset (0.5 px) off
+// for most, far off (a mover the prediction does not know) for the right third of the points.
 struct BaseFirstScene {
   std::vector<cv::Mat> prev_pyr, cur_pyr;
   std::vector<cv::Point2f> points, guess;
@@ -85,7 +85,7 @@ struct BaseFirstScene {
   LkOptions pyramid_only;
 };
 
-BaseFirstScene MakeBaseFirstScene() {
+BaseFirstScene MakeBaseFirstScene(cv::Point2f good_offset = {0.4f, -0.3f}) {
   BaseFirstScene s;
   cv::Mat noise(240, 320, CV_8U);
   cv::RNG rng(20261203);
@@ -116,7 +116,7 @@ BaseFirstScene MakeBaseFirstScene() {
       s.points.emplace_back(static_cast<float>(x), static_cast<float>(y));
       s.bad.push_back(x >= 400);
       s.guess.push_back(s.points.back() - cv::Point2f(3.f, 1.f) +
-                        (s.bad.back() ? bad_offset : cv::Point2f(0.4f, -0.3f)));
+                        (s.bad.back() ? bad_offset : good_offset));
     }
   }
   return s;
@@ -158,6 +158,43 @@ TEST(LkFlow, BaseFirstKeepsGoodGuessesAndRetracksTheRestThroughThePyramid) {
   EXPECT_GT(base_wrong, num_bad / 4);
   // At the decoys it stops within base_first_px of the guess: only its residual sends it back.
   EXPECT_GE(base_stuck, 1);
+}
+
+// A prediction error every point shares (here 2 px, as a camera's rotation jitter gives): without
+// the shift every point ends more than base_first_px from its guess and is tracked again; with it
+// hardly more than the far-off guesses are, and the tracks are the whole pyramid's.
+TEST(LkFlow, ASharedPredictionErrorIsRemovedBeforeTheRetrackTest) {
+  const BaseFirstScene s = MakeBaseFirstScene({1.6f, -1.2f});
+  LkOptions plain = s.pyramid_only;
+  plain.base_first_px = 1.0;
+  plain.base_window_px = 11;
+  LkOptions shifted = plain;
+  shifted.base_shift_min_points = 20;
+  const Correspondences full =
+      TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, s.pyramid_only);
+  const Correspondences without = TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, plain);
+  const Correspondences with = TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, shifted);
+  const int n = static_cast<int>(s.points.size());
+  const int num_bad = static_cast<int>(std::count(s.bad.begin(), s.bad.end(), true));
+  EXPECT_EQ(without.num_retracked, n);
+  // The far-off guesses (a few good ones may miss the residual gate of the 11 px window).
+  EXPECT_GE(with.num_retracked, num_bad);
+  EXPECT_LE(with.num_retracked, num_bad + n / 20);
+  EXPECT_EQ(full.num_retracked, 0);  // no base-image pass
+  ASSERT_EQ(with.num_valid, full.num_valid);
+  int right = 0;
+  for (int i = 0; i < n; ++i) {
+    ASSERT_EQ(with.valid[i], full.valid[i]) << i;
+    if (!with.valid[i]) continue;
+    const cv::Point2f d = with.previous[i] - full.previous[i];
+    EXPECT_LT(std::hypot(d.x, d.y), 0.05f) << i;
+    const cv::Point2f e = with.previous[i] - (s.points[i] - cv::Point2f(3.f, 1.f));
+    right += std::hypot(e.x, e.y) < 0.1f;
+  }
+  EXPECT_GT(right, n * 9 / 10);
+  // Too few converged points for a median: no shift, every point is tracked again.
+  shifted.base_shift_min_points = n + 1;
+  EXPECT_EQ(TrackWithFlow(s.prev_pyr, s.cur_pyr, s.points, s.guess, shifted).num_retracked, n);
 }
 
 // Tracks of `variant` against those of `reference` on the scene: the same points valid, how many

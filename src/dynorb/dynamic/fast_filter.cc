@@ -39,6 +39,7 @@ LkOptions LkFromOptions(const FastOptions& options) {
   lk.backward_check = !options.lk_fb_candidates_only;
   lk.base_first_px = options.lk_base_first_px;
   lk.base_window_px = options.lk_base_window_px;
+  lk.base_shift_min_points = options.lk_base_shift_min_points;
   lk.backward_levels = options.lk_fb_levels;
   return lk;
 }
@@ -83,6 +84,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   // first analysis after a carry has no track history nor flagged keypoints to confirm a lone
   // seed, so a mover entering then is confirmed by the next analysis).
   const bool after_carry = frames_since_analysis_ > 0;
+  w.after_carry = after_carry;
   frames_since_analysis_ = 0;
   info_.num_keypoints = static_cast<int>(w.n);
   FilterOutput out;
@@ -94,6 +96,7 @@ FilterOutput FastFilter::Filter(const FilterInput& input) {
   if (has_previous_) {
     info_.has_previous = true;
     info_.num_tracked = w.corr.num_valid;
+    info_.num_retracked = w.corr.num_retracked;
     w.p1 = w.corr.previous;
     for (size_t i = 0; i < w.n; ++i) cue_bits_[i] |= w.corr.valid[i] ? kCueTracked : 0;
     watch.Restart();
@@ -253,7 +256,9 @@ void FastFilter::FindCorrespondences(FrameWork* w) {
       initial.push_back(guess);
     }
   }
-  w->corr = TrackSubsetWithFlow(previous_pyramid_, w->pyramid, w->p2, subset, initial, lk_);
+  LkOptions lk = lk_;
+  if (!w->after_carry && !options_.lk_base_shift_always) lk.base_shift_min_points = 0;
+  w->corr = TrackSubsetWithFlow(previous_pyramid_, w->pyramid, w->p2, subset, initial, lk);
 }
 
 // 2. Ego-motion.

@@ -76,6 +76,7 @@ struct FastFrameInfo {
   bool f_ok = false;           // RANSAC F estimated
   bool f_replaced = false;     // F disagreed with the ego-motion and was replaced
   int num_keypoints = 0, num_tracked = 0, num_seeds = 0, num_removed = 0, num_regions = 0;
+  int num_retracked = 0;  // flow: points tracked again through the pyramid (lk_base_first_px)
 };
 
 class FastFilter : public KeypointFilter {

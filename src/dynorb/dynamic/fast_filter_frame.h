@@ -32,6 +32,7 @@ struct FastFilter::FrameWork {
   const cv::Mat& depth;  // current frame, metres
   const size_t n;
   const float max_depth;
+  bool after_carry = false;     // the previous frame was carried, not analysed
   std::vector<cv::Point2f> p2;  // current keypoint positions
   std::vector<cv::Point2f> p1;  // their positions in the previous frame (when tracked)
   std::vector<cv::Mat> pyramid;  // current frame's LK pyramid (flow mode)

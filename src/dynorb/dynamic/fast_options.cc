@@ -20,6 +20,7 @@ void FastOptions::Validate() const {
   Require(bf_max_distance >= 0 && bf_max_distance <= 256, "bf_max_distance must be in [0, 256]");
   Require(lk_max_points >= 0, "lk_max_points must be >= 0 (0: all)");
   Require(lk_base_first_px >= 0.0, "lk_base_first_px must be >= 0 (0: off)");
+  Require(lk_base_shift_min_points >= 0, "lk_base_shift_min_points must be >= 0 (0: off)");
   Require(lk_base_window_px == 0 || (lk_base_window_px >= 5 && lk_base_window_px % 2 == 1 &&
                                      lk_base_window_px <= lk_window_px),
           "lk_base_window_px must be 0 (lk_window_px) or odd, >= 5 and <= lk_window_px");

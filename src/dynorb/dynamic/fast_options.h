@@ -31,6 +31,13 @@ struct FastOptions {
   double lk_base_first_px = 1.0;         // > 0 (with a prediction): LK on the base image first;
                                          // results farther than this from the prediction are
                                          // tracked again through the whole pyramid (0: off)
+  int lk_base_shift_min_points = 20;     // > 0: on the analysis after a carried frame (whose
+                                         // guess is two frames old), the base pass's median
+                                         // offset from the guesses is removed before that test
+                                         // and the retracks start from guess + offset; needs this
+                                         // many converged points (0: off; session 51)
+  bool lk_base_shift_always = false;     // ... on every analysis (session 51: worse ATE on
+                                         // walking_rpy)
   int lk_base_window_px = 11;            // LK window of that first base-image pass (0: lk_window_px;
                                          // session 17: 11 px, a quarter of the 21 px window's area)
   double bf_best_fraction = 1.0 / 3.0;   // descriptors: best matches kept for estimating F
