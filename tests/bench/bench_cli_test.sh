@@ -341,6 +341,7 @@ grep -qE '^ *correspondences: "?descriptors' "$DIR/fastbf/effective_config.yaml"
 grep -qF "camera.yaml + $DIR/bf.yaml" "$DIR/fastbf/stats.json" || fail "stats.json config does not name the overlay"
 grep -qE '^ *correspondences: "?flow' "$DIR/fastrun/effective_config.yaml" || fail "default run is not on flow"
 grep -qE '^ *quiet_analyse_every: 2' "$DIR/fastrun/effective_config.yaml" || fail "fast mode's quiet schedule is not 2"
+grep -qE '^ *residual_static_veto: true' "$DIR/fastrun/effective_config.yaml" || fail "fast mode's residual veto is not on"
 for overlay in "$DIR/no_such_overlay.yaml" "$DIR/bad_overlay.yaml"; do
   err=$("$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --config-overlay "$overlay" \
     --out "$DIR/fastbad" --quiet 2>&1 >/dev/null)

@@ -235,6 +235,30 @@ TEST(FastQuietSchedule, OnlyWithFlowAndRegionsElseEveryFrameAnalysed) {
   EXPECT_THROW(options.Validate(), InputError);
 }
 
+// Parallax is not motion: the standing box, twice as near as the wall, has twice the wall's flow,
+// so the magnitude cue calls it moving (here weighted to make a seed on its own); the warp
+// residual with each point's own depth calls it static. With residual_static_veto the
+// frame-pair cues do not count there and the box is kept (`dynorb run --mode fast` sets it).
+TEST(FastResidualVeto, ANearStandingObjectsLargerFlowMakesNoSeed) {
+  FastOptions options;
+  options.weight_magnitude = 1.0;
+  FastOptions veto = options;
+  veto.residual_static_veto = true;
+  const std::vector<QuietFrame> without = RunQuietScene(options, 7);
+  const std::vector<QuietFrame> with = RunQuietScene(veto, 7);
+  int removed_without = 0;
+  for (int i = 1; i < 7; ++i) {
+    ASSERT_GT(with[i].box_keypoints, 40) << i;
+    removed_without += without[i].box_removed;
+    // At most a lone corner on its outline (where the wall slides behind the box's edge).
+    EXPECT_LE(with[i].box_removed, 2) << i;
+    EXPECT_LE(with[i].removed, 5) << i;
+    std::printf("frame %d box keypoints %d removed without the veto %d, with %d\n", i,
+                with[i].box_keypoints, without[i].box_removed, with[i].box_removed);
+  }
+  EXPECT_GT(removed_without, 100);
+}
+
 // The camera speeds up (4, then 6, then 9 px per frame on the wall) while the box stands: the
 // LK guesses of frame 2 and of frame 4 (the analysis after the carried frame 3) come from the
 // previous, slower motion. By default only frame 4 removes the shared offset of its guesses

@@ -94,10 +94,15 @@ void FastFilter::Classify(FrameWork* w) {
     if (!valid[i]) continue;
     uint16_t bits = 0;
     double score = 0.0;
-    if (IsMoving(epi[i])) bits |= kCueEpipolar, score += options_.weight_epipolar;
+    // The frame-pair cues; with residual_static_veto they do not count where the rigid warp with
+    // the point's own depth explains its flow (a near object's flow is larger, and an F fitted to
+    // a dominant plane can put it off its epipolar line).
+    double pair_score = 0.0;
+    if (IsMoving(epi[i])) bits |= kCueEpipolar, pair_score += options_.weight_epipolar;
     if (epi[i] == CueVote::kMismatch || res[i] == CueVote::kMismatch) bits |= kCueMismatch;
-    if (IsMoving(dir[i])) bits |= kCueDirection, score += options_.weight_direction;
-    if (IsMoving(mag[i])) bits |= kCueMagnitude, score += options_.weight_magnitude;
+    if (IsMoving(dir[i])) bits |= kCueDirection, pair_score += options_.weight_direction;
+    if (IsMoving(mag[i])) bits |= kCueMagnitude, pair_score += options_.weight_magnitude;
+    if (!(options_.residual_static_veto && res[i] == CueVote::kStatic)) score += pair_score;
     if (IsMoving(res[i])) bits |= kCueResidual, score += options_.weight_residual;
     if (IsMoving(dep[i])) bits |= kCueDepth, score += options_.weight_depth;
     if (score >= options_.seed_score) bits |= kCueSeed, w->seed[i] = 1;
