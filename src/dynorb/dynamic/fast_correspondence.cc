@@ -36,8 +36,9 @@ cv::Point2f MedianOffset(const std::vector<cv::Point2f>& result,
 }
 
 // LK on the base image only from the guesses in *previous (cheap: a good guess converges there);
-// the points that end farther than base_first_px from their guess, fail, or end with a large
-// residual are tracked again through the whole pyramid from their guess.
+// the points that end farther than base_first_px from their guess (plus, with
+// base_shift_min_points, the converged points' median offset), fail, or end with a large residual
+// are tracked again through the whole pyramid from their guess (plus that offset).
 // Returns the number of points tracked again.
 int TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid,
                    const std::vector<cv::Mat>& current_pyramid,
