@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <opencv2/video/tracking.hpp>
 
@@ -17,6 +18,13 @@ std::vector<cv::Mat> BuildLkPyramid(const cv::Mat& gray, const LkOptions& option
 
 namespace {
 
+// The element at index size/2 once sorted (the upper median); `values` must not be empty.
+float UpperMedian(std::vector<float> values) {
+  const auto mid = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
 // Per-axis median of result - guess over the points that converged (status set, residual at most
 // max_residual); zero with fewer than min_points of them.
 cv::Point2f MedianOffset(const std::vector<cv::Point2f>& result,
@@ -28,11 +36,8 @@ cv::Point2f MedianOffset(const std::vector<cv::Point2f>& result,
     dx.push_back(result[i].x - guess[i].x);
     dy.push_back(result[i].y - guess[i].y);
   }
-  if (static_cast<int>(dx.size()) < min_points) return {0.f, 0.f};
-  const size_t mid = dx.size() / 2;
-  std::nth_element(dx.begin(), dx.begin() + mid, dx.end());
-  std::nth_element(dy.begin(), dy.begin() + mid, dy.end());
-  return {dx[mid], dy[mid]};
+  if (dx.empty() || static_cast<int>(dx.size()) < min_points) return {0.f, 0.f};
+  return {UpperMedian(std::move(dx)), UpperMedian(std::move(dy))};
 }
 
 // LK on the base image only from the guesses in *previous (cheap: a good guess converges there);
@@ -59,11 +64,7 @@ int TrackBaseFirst(const std::vector<cv::Mat>& previous_pyramid,
   for (size_t i = 0; i < current.size(); ++i) {
     if ((*status)[i]) residuals.push_back(error[i]);
   }
-  float max_residual = 0.f;
-  if (!residuals.empty()) {
-    std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
-    max_residual = 3.f * residuals[residuals.size() / 2];
-  }
+  const float max_residual = residuals.empty() ? 0.f : 3.f * UpperMedian(std::move(residuals));
   const cv::Point2f shift = options.base_shift_min_points > 0
                                 ? MedianOffset(*previous, guess, *status, error, max_residual,
                                                options.base_shift_min_points)
