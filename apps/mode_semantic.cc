@@ -37,6 +37,11 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
            "0: detect inline; L>0: detect on a worker, use the result L frames later (L < "
            "detect_every)")
       .Add("max_carried_frames", &o.max_carried_frames, "drop carried masks after this many frames")
+      .Add("quiet_detect_every", &o.quiet_detect_every,
+           "0: off; else (a multiple of detect_every) detect only every Nth frame after "
+           "quiet_after_empty detections in a row found no dynamic object, until one does")
+      .Add("quiet_after_empty", &o.quiet_after_empty,
+           "detections in a row without a dynamic object that start the quiet schedule")
       .Add("carry_grid", &o.carry_grid,
            "carrying tracks up to carry_grid^2 points per object (2..16)")
       .Add("carry_downscale", &o.carry_downscale,

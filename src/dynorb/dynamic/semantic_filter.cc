@@ -46,6 +46,11 @@ void SemanticOptions::Validate() const {
     throw InputError("semantic.detector_latency must be >= 0 and < detect_every (one detection in flight)");
   }
   if (max_carried_frames < 0) throw InputError("semantic.max_carried_frames must be >= 0");
+  if (quiet_detect_every < 0 || quiet_detect_every % detect_every != 0) {
+    throw InputError("semantic.quiet_detect_every must be 0 (off) or a multiple of detect_every (" +
+                     std::to_string(detect_every) + "), got " + std::to_string(quiet_detect_every));
+  }
+  if (quiet_after_empty < 1) throw InputError("semantic.quiet_after_empty must be >= 1");
   if (carry_grid < 2 || carry_grid > 16) throw InputError("semantic.carry_grid must be in [2, 16]");
   if (carry_downscale != 1 && carry_downscale != 2)
     throw InputError("semantic.carry_downscale must be 1 or 2");
@@ -169,21 +174,32 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
   return carried;
 }
 
+bool SemanticFilter::Scheduled(FrameId frame_id) const {
+  if (frame_id % static_cast<FrameId>(options_.detect_every) != 0) return false;
+  const bool quiet =
+      options_.quiet_detect_every > 0 && empty_detections_ >= options_.quiet_after_empty;
+  return !quiet || frame_id % static_cast<FrameId>(options_.quiet_detect_every) == 0;
+}
+
+void SemanticFilter::CountDetection(const DynamicObjects& detected) {
+  empty_detections_ = detected.objects.empty() ? empty_detections_ + 1 : 0;
+}
+
 FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   CV_Assert(input.bgr && input.gray && input.keypoints);
   const cv::Mat no_depth;
   const cv::Mat& depth = input.depth_m ? *input.depth_m : no_depth;
   Stopwatch watch;
-  const bool scheduled = input.frame_id % static_cast<FrameId>(options_.detect_every) == 0;
   provider_ms_ = propagation_ms_ = wait_ms_ = 0.0;
   last_was_detection_ = false;
   // The image the next frame's carrying starts from: part of the propagation stage.
   cv::Mat small = Downscaled(*input.gray);
   const double downscale_ms = watch.ElapsedMs();
   if (options_.detector_latency == 0) {
-    if (scheduled) {
+    if (Scheduled(input.frame_id)) {
       MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
       current_ = provider_->Masks(query);
+      CountDetection(current_);
       frames_since_detection_ = 0;
       provider_ms_ = watch.ElapsedMs() - downscale_ms;
       propagation_ms_ = downscale_ms;
@@ -203,13 +219,14 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
       Stopwatch wait;
       DynamicObjects detected = pending_.get();
       wait_ms_ = wait.ElapsedMs();
+      CountDetection(detected);
       provider_ms_ = pending_provider_ms_;
       frames_since_detection_ = static_cast<int>(input.frame_id - pending_frame_);
       current_ = Carry(detected, pending_small_, small, input.gray->size(), depth);
       last_was_detection_ = true;
     }
     propagation_ms_ = watch.ElapsedMs() - wait_ms_;
-    if (scheduled) {
+    if (Scheduled(input.frame_id)) {  // After the pending result arrived: it may end a quiet spell.
       pending_frame_ = input.frame_id;
       small.copyTo(pending_small_);
       pending_ = std::async(std::launch::async, [this, id = input.frame_id, ts = input.timestamp_s,

@@ -39,6 +39,8 @@ struct SemanticOptions {
   int detector_latency = 0;     // 0: detect inline; L > 0: detect on a worker thread, use the
                                 // result L frames later (carried by flow), L < detect_every
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
+  int quiet_detect_every = 0;   // 0: off; else a multiple of detect_every, the schedule after
+  int quiet_after_empty = 2;    // this many detections in a row without a dynamic object
   int carry_grid = 4;           // carrying tracks up to carry_grid^2 points per object (LK;
                                 // session 34: 4 instead of 8, 0.2 ms less, same accuracy)
   int carry_downscale = 2;      // carrying tracks on images downscaled by 1 (full resolution) or
@@ -80,6 +82,8 @@ class SemanticFilter : public KeypointFilter {
   double last_provider_ms() const { return provider_ms_; }
   double last_propagation_ms() const { return propagation_ms_; }
   bool last_was_detection() const { return last_was_detection_; }
+  // Whether frame `frame_id` is scheduled for a detection (detect_every, quiet_detect_every).
+  bool Scheduled(FrameId frame_id) const;
   const DynamicObjects& current() const { return current_; }
 
  private:
@@ -89,12 +93,14 @@ class SemanticFilter : public KeypointFilter {
   DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_small, const cv::Mat& small,
                        cv::Size full, const cv::Mat& depth_m) const;
   cv::Mat Downscaled(const cv::Mat& gray) const;
+  void CountDetection(const DynamicObjects& detected);  // Updates empty_detections_.
 
   std::unique_ptr<MaskProvider> provider_;
   SemanticOptions options_;
   DynamicObjects current_;
   cv::Mat previous_small_;  // The previous frame's grey image, downscaled.
   int frames_since_detection_ = 0;
+  int empty_detections_ = 0;  // Detections in a row that found no dynamic object.
   double provider_ms_ = 0.0, propagation_ms_ = 0.0, wait_ms_ = 0.0;
   bool last_was_detection_ = false;
   // Pipelined detection (detector_latency > 0): at most one in flight. Declared after provider_

@@ -306,6 +306,61 @@ TEST(SemanticFilter, DeterministicScheduleAndCarriedMasks) {
   }
 }
 
+// Quiet scenes: after two detections without a dynamic object, only every 8th frame is detected,
+// until a detection finds one again; the schedule is the same with a pipelined detector.
+class AppearingSquareProvider : public SquareProvider {
+ public:
+  DynamicObjects Masks(const MaskQuery& query) override {
+    DynamicObjects out = SquareProvider::Masks(query);
+    if (query.frame_id < appears_at) {
+      out.objects.clear();
+      out.mask.setTo(0);
+    }
+    return out;
+  }
+  FrameId appears_at = 0;
+};
+
+std::vector<FrameId> QuietScheduleCalls(int quiet_every, int latency, FrameId appears_at) {
+  auto provider = std::make_unique<AppearingSquareProvider>();
+  provider->appears_at = appears_at;
+  auto log = std::make_shared<std::vector<FrameId>>();
+  provider->log = log;
+  SemanticOptions options;
+  options.detect_every = 4;
+  options.detector_latency = latency;
+  options.quiet_detect_every = quiet_every;
+  options.quiet_after_empty = 2;
+  {
+    SemanticFilter filter(std::move(provider), options);
+    for (int frame = 0; frame < 30; ++frame) FilterSquareFrame(&filter, frame);
+  }
+  return *log;
+}
+
+TEST(SemanticFilter, QuietScheduleDetectsLessOftenUntilAnObjectIsFound) {
+  for (int latency : {0, 2}) {
+    SCOPED_TRACE(latency);
+    // Off: every 4th frame.
+    EXPECT_EQ(QuietScheduleCalls(0, latency, 13),
+              (std::vector<FrameId>{0, 4, 8, 12, 16, 20, 24, 28}));
+    // Empty at 0 and 4: quiet from 8 on (8, 16 detected); the square is found at 16 and every
+    // 4th frame is detected again.
+    EXPECT_EQ(QuietScheduleCalls(8, latency, 13), (std::vector<FrameId>{0, 4, 8, 16, 20, 24, 28}));
+    // An object in every detection: never quiet.
+    EXPECT_EQ(QuietScheduleCalls(8, latency, 0),
+              (std::vector<FrameId>{0, 4, 8, 12, 16, 20, 24, 28}));
+  }
+  SemanticOptions bad;
+  bad.quiet_detect_every = 6;  // not a multiple of detect_every (4)
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.quiet_detect_every = -4;
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.quiet_detect_every = 8;
+  bad.quiet_after_empty = 0;
+  EXPECT_THROW(bad.Validate(), InputError);
+}
+
 // Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
 // k + latency; the calls and results do not depend on thread timing.
 std::vector<std::vector<bool>> RunPipelined(int latency, std::vector<FrameId>* calls, std::vector<bool>* arrived) {
