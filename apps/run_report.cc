@@ -192,7 +192,12 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
                     {"local_ba_per_keyframe", StatsJson(ba_ms)}};
   if (!filter_stages.empty()) {
     nlohmann::json stages = nlohmann::json::object();
-    for (const auto& [stage, values] : filter_stages) stages[stage] = StatsJson(values);
+    for (const auto& [stage, values] : filter_stages) {
+      stages[stage] = StatsJson(values);
+      // The frames the stage ran on (e.g. semantic's detector on its schedule): it took > 0 ms.
+      stages[stage]["frames_run"] =
+          std::count_if(values.begin(), values.end(), [](double ms) { return ms > 0.0; });
+    }
     j["timing_ms"]["filter_stages"] = stages;
   }
   if (evaluation) {

@@ -280,6 +280,7 @@ a, b = (json.load(open(f)) for f in sys.argv[1:])
 assert a["ate"] == b["ate"] and a["dynamic_keypoints"] == b["dynamic_keypoints"], "overlays changed the labels"
 overlay = a["timing_ms"]["filter_stages"]["overlay"]
 assert overlay["median"] == 0 and overlay["max"] > 0, overlay  # drawn on 3 of 14 frames only
+assert overlay["frames_run"] == 3 and a["timing_ms"]["filter_stages"]["flow"]["frames_run"] >= 10, a["timing_ms"]["filter_stages"]
 EOF
 "$DYNORB" run --dataset "$OUT/cache/walking_xyz_s3_f14" --mode fast --out "$DIR/fastov0" --quiet \
   --save-overlays "$DIR/fastov0/overlays" --overlay-every 0 >/dev/null 2>&1 && fail "--overlay-every 0 accepted"
