@@ -161,13 +161,14 @@ std::unique_ptr<KeypointFilter> FastModeFactory::Create(const RunModeContext& co
 }
 
 namespace {
-// FastOptions' defaults except two, measured in fast mode only (docs/results.md; the 12 cuts and
+// FastOptions' defaults except two, measured in fast mode (docs/results.md; the 12 cuts and
 // their twins x 3 replicates). The quiet schedule: every third frame of a quiet scene carried
 // (session 50: mean ATE 3.540 -> 3.499 mm, recall of the moving keypoints >= 0.909; 7-12 % of
 // the frames carried where people walk, a third without them). The residual veto: a standing
 // object nearer than the background is not a mover for its larger flow (session 51: recall
-// unchanged, 2.7 % fewer removals away from movers, mean ATE 3.527 -> 3.572 mm). Fused mode keeps
-// FastOptions' own defaults (neither was measured with it).
+// unchanged, 2.7 % fewer removals away from movers, mean ATE 3.527 -> 3.572 mm). Fused mode sets
+// the veto in its own defaults (apps/mode_fused.cc) and keeps the quiet schedule off (measured
+// worse there, session 52).
 FastOptions FastModeDefaults() {
   FastOptions o;
   o.quiet_analyse_every = 2;

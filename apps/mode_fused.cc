@@ -48,9 +48,13 @@ class FusedModeFactory : public RunModeFactory {
   // full length; the `fast:` key still overrides it). Until session 6 fused tracked every
   // keypoint (v1 data: 1.29 with all, 1.53 with 400); with fast_max_overlap and refill the subset
   // is as good and cheaper (v2 data, 12 sequences: 1.26 with 400, 1.29 with all).
+  // The residual veto too (session 52, the 12 cuts and their twins x 3 replicates: mean ATE
+  // 3.209 -> 3.204 mm, walking_halfsphere s9 1.31 -> 1.29, <= 1.3 on 12 of 12; FAST's quiet
+  // schedule with it: 3.236 mm, worst 1.35, not adopted).
   static FastOptions FastDefaults() {
     FastOptions o;
     o.region_min_seeds = 4;
+    o.residual_static_veto = true;
     return o;
   }
   SemanticModeFactory semantic_;

@@ -36,7 +36,7 @@ std::string EffectiveYaml(const std::string& mode, const std::string& config_tex
   return schema.ToYaml();
 }
 
-TEST(RunModes, FusedNeedsMoreSeedsForANewFastRegionThanFastAndTheKeyOverridesIt) {
+TEST(RunModes, FastAndFusedDefaultsDifferWhereMeasuredAndTheKeyOverridesThem) {
   EXPECT_EQ(ValueIn(EffectiveYaml("fast", ""), "fast", "region_min_seeds"), "3");
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "region_min_seeds"), "4");
   EXPECT_EQ(
@@ -46,6 +46,11 @@ TEST(RunModes, FusedNeedsMoreSeedsForANewFastRegionThanFastAndTheKeyOverridesIt)
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "lk_max_points"),
             ValueIn(EffectiveYaml("fast", ""), "fast", "lk_max_points"));
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fused", "fast_max_overlap"), "0.5");
+  // The residual veto is on in both modes; FAST's quiet schedule in fast mode only.
+  EXPECT_EQ(ValueIn(EffectiveYaml("fast", ""), "fast", "residual_static_veto"), "true");
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "residual_static_veto"), "true");
+  EXPECT_EQ(ValueIn(EffectiveYaml("fast", ""), "fast", "quiet_analyse_every"), "2");
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "quiet_analyse_every"), "1");
 }
 
 TEST(RunModes, UnknownModeAndBadSectionValueAreInputErrors) {
