@@ -11,6 +11,8 @@ namespace dynorb {
 
 class SemanticModeFactory : public RunModeFactory {
  public:
+  explicit SemanticModeFactory(const SemanticOptions& defaults = SemanticOptions())
+      : options_(defaults) {}
   void BindConfig(ConfigSchema* schema) override;  // The `semantic:` section.
   std::unique_ptr<KeypointFilter> Create(const RunModeContext& context) override;
 
