@@ -92,7 +92,8 @@ struct FastOptions {
   double seed_score = 1.0;            // a keypoint with score >= this is a moving seed
   bool residual_static_veto = false;  // the epipolar, direction and magnitude votes do not count
                                       // where the warp-residual cue says static (a near standing
-                                      // object's larger flow; `--mode fast` sets it, session 51)
+                                      // object's larger flow; `--mode fast` sets it since
+                                      // session 51, `--mode fused` since session 52)
   // --- Region growing on depth.
   bool use_region = true;             // grow seeds into depth segments
   int region_scale = 4;               // region grid: 1/region_scale resolution

@@ -82,8 +82,6 @@ class SemanticFilter : public KeypointFilter {
   double last_provider_ms() const { return provider_ms_; }
   double last_propagation_ms() const { return propagation_ms_; }
   bool last_was_detection() const { return last_was_detection_; }
-  // Whether frame `frame_id` is scheduled for a detection (detect_every, quiet_detect_every).
-  bool Scheduled(FrameId frame_id) const;
   const DynamicObjects& current() const { return current_; }
 
  private:
@@ -93,6 +91,8 @@ class SemanticFilter : public KeypointFilter {
   DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_small, const cv::Mat& small,
                        cv::Size full, const cv::Mat& depth_m) const;
   cv::Mat Downscaled(const cv::Mat& gray) const;
+  // Whether frame `frame_id` is scheduled for a detection (detect_every, quiet_detect_every).
+  bool Scheduled(FrameId frame_id) const;
   void CountDetection(const DynamicObjects& detected);  // Updates empty_detections_.
 
   std::unique_ptr<MaskProvider> provider_;
