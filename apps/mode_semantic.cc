@@ -42,6 +42,13 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
            "quiet_after_empty detections in a row found no dynamic object, until one does")
       .Add("quiet_after_empty", &o.quiet_after_empty,
            "detections in a row without a dynamic object that start the quiet schedule")
+      .Add("steady_detect_every", &o.steady_detect_every,
+           "0: off; else (a multiple of detect_every) detect only every Nth frame after "
+           "steady_after detections in a row agreed with the carried objects, until one does not")
+      .Add("steady_after", &o.steady_after,
+           "detections in a row agreeing with the carried objects that start the steady schedule")
+      .Add("steady_min_iou", &o.steady_min_iou,
+           "agreement: same object count, every box matched both ways at this IoU or more")
       .Add("carry_grid", &o.carry_grid,
            "carrying tracks up to carry_grid^2 points per object (2..16)")
       .Add("carry_downscale", &o.carry_downscale,

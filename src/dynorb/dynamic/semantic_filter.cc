@@ -13,6 +13,18 @@ namespace {
 
 constexpr int kCarryWindowRadius = 10;  // Half the 21 px LK window, in full-resolution pixels.
 
+// Whether every box of `a` overlaps some box of `b` by at least min_iou.
+bool AllMatched(const std::vector<DynamicObject>& a, const std::vector<DynamicObject>& b,
+                double min_iou) {
+  for (const DynamicObject& x : a) {
+    float best = 0.f;
+    for (const DynamicObject& y : b)
+      best = std::max(best, BoxIou(x.detection.box, y.detection.box));
+    if (best < min_iou) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<std::string> DefaultDynamicClasses() {
@@ -51,6 +63,14 @@ void SemanticOptions::Validate() const {
                      std::to_string(detect_every) + "), got " + std::to_string(quiet_detect_every));
   }
   if (quiet_after_empty < 1) throw InputError("semantic.quiet_after_empty must be >= 1");
+  if (steady_detect_every < 0 || steady_detect_every % detect_every != 0) {
+    throw InputError(
+        "semantic.steady_detect_every must be 0 (off) or a multiple of detect_every (" +
+        std::to_string(detect_every) + "), got " + std::to_string(steady_detect_every));
+  }
+  if (steady_after < 1) throw InputError("semantic.steady_after must be >= 1");
+  if (!(steady_min_iou > 0.0 && steady_min_iou <= 1.0))
+    throw InputError("semantic.steady_min_iou must be in (0, 1]");
   if (carry_grid < 2 || carry_grid > 16) throw InputError("semantic.carry_grid must be in [2, 16]");
   if (carry_downscale != 1 && carry_downscale != 2)
     throw InputError("semantic.carry_downscale must be 1 or 2");
@@ -176,13 +196,22 @@ DynamicObjects SemanticFilter::Carry(const DynamicObjects& from, const cv::Mat& 
 
 bool SemanticFilter::Scheduled(FrameId frame_id) const {
   if (frame_id % static_cast<FrameId>(options_.detect_every) != 0) return false;
-  const bool quiet =
-      options_.quiet_detect_every > 0 && empty_detections_ >= options_.quiet_after_empty;
-  return !quiet || frame_id % static_cast<FrameId>(options_.quiet_detect_every) == 0;
+  if (options_.quiet_detect_every > 0 && empty_detections_ >= options_.quiet_after_empty)
+    return frame_id % static_cast<FrameId>(options_.quiet_detect_every) == 0;
+  if (options_.steady_detect_every > 0 && steady_detections_ >= options_.steady_after)
+    return frame_id % static_cast<FrameId>(options_.steady_detect_every) == 0;
+  return true;
 }
 
-void SemanticFilter::CountDetection(const DynamicObjects& detected) {
+void SemanticFilter::CountDetection(const DynamicObjects& detected,
+                                    const std::vector<DynamicObject>& carried) {
   empty_detections_ = detected.objects.empty() ? empty_detections_ + 1 : 0;
+  // Agreement: as many objects as were carried, each matched both ways. An empty scene is the
+  // quiet schedule's business, not a steady one.
+  const bool agree = !detected.objects.empty() && detected.objects.size() == carried.size() &&
+                     AllMatched(detected.objects, carried, options_.steady_min_iou) &&
+                     AllMatched(carried, detected.objects, options_.steady_min_iou);
+  steady_detections_ = agree ? steady_detections_ + 1 : 0;
 }
 
 FilterOutput SemanticFilter::Filter(const FilterInput& input) {
@@ -198,8 +227,11 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   if (options_.detector_latency == 0) {
     if (Scheduled(input.frame_id)) {
       MaskQuery query{input.frame_id, input.timestamp_s, input.bgr, input.depth_m};
-      current_ = provider_->Masks(query);
-      CountDetection(current_);
+      DynamicObjects detected = provider_->Masks(query);
+      // Compared with the objects as carried to the previous frame (not carried on to this one:
+      // the detection replaces them, so that carry is not computed).
+      CountDetection(detected, current_.objects);
+      current_ = std::move(detected);
       frames_since_detection_ = 0;
       provider_ms_ = watch.ElapsedMs() - downscale_ms;
       propagation_ms_ = downscale_ms;
@@ -219,7 +251,7 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
       Stopwatch wait;
       DynamicObjects detected = pending_.get();
       wait_ms_ = wait.ElapsedMs();
-      CountDetection(detected);
+      CountDetection(detected, pending_carried_);
       provider_ms_ = pending_provider_ms_;
       frames_since_detection_ = static_cast<int>(input.frame_id - pending_frame_);
       current_ = Carry(detected, pending_small_, small, input.gray->size(), depth);
@@ -229,6 +261,7 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     if (Scheduled(input.frame_id)) {  // After the pending result arrived: it may end a quiet spell.
       pending_frame_ = input.frame_id;
       small.copyTo(pending_small_);
+      pending_carried_ = current_.objects;
       pending_ = std::async(std::launch::async, [this, id = input.frame_id, ts = input.timestamp_s,
                                                  bgr = input.bgr->clone(),
                                                  depth_copy = depth.clone()]() {

@@ -7,6 +7,10 @@
 // points sampled in its mask (as NGD-SLAM carries masks between detections), then re-refined
 // with the current depth around the object's carried depth. Objects older than
 // max_carried_frames are dropped. Called from the tracking thread only.
+// Fewer detections: after quiet_after_empty detections in a row found no dynamic object, only
+// every quiet_detect_every-th frame is detected; after steady_after detections in a row agreed
+// with the objects carried to them (same count, boxes matched at steady_min_iou), only every
+// steady_detect_every-th. Both depend on the detections only, so the schedule stays deterministic.
 // With detector_latency L > 0 the provider runs on a worker thread: the detection of frame k is
 // started at frame k and used at frame k + L (carried by flow from frame k), so the detector
 // overlaps tracking on a second core while the schedule stays deterministic.
@@ -41,6 +45,9 @@ struct SemanticOptions {
   int max_carried_frames = 15;  // drop carried objects after this many frames without detection
   int quiet_detect_every = 0;   // 0: off; else a multiple of detect_every, the schedule after
   int quiet_after_empty = 2;    // this many detections in a row without a dynamic object
+  int steady_detect_every = 0;  // 0: off; else a multiple of detect_every, the schedule after
+  int steady_after = 2;         // this many detections in a row that agreed with the carried
+  double steady_min_iou = 0.7;  // objects: same count, each box matched at this IoU or more
   int carry_grid = 4;           // carrying tracks up to carry_grid^2 points per object (LK;
                                 // session 34: 4 instead of 8, 0.2 ms less, same accuracy)
   int carry_downscale = 2;      // carrying tracks on images downscaled by 1 (full resolution) or
@@ -91,16 +98,20 @@ class SemanticFilter : public KeypointFilter {
   DynamicObjects Carry(const DynamicObjects& from, const cv::Mat& from_small, const cv::Mat& small,
                        cv::Size full, const cv::Mat& depth_m) const;
   cv::Mat Downscaled(const cv::Mat& gray) const;
-  // Whether frame `frame_id` is scheduled for a detection (detect_every, quiet_detect_every).
+  // Whether frame `frame_id` is scheduled for a detection (detect_every, quiet_detect_every,
+  // steady_detect_every).
   bool Scheduled(FrameId frame_id) const;
-  void CountDetection(const DynamicObjects& detected);  // Updates empty_detections_.
+  // Updates empty_detections_ and steady_detections_ from a detection and the objects carried to
+  // (about) the same frame.
+  void CountDetection(const DynamicObjects& detected, const std::vector<DynamicObject>& carried);
 
   std::unique_ptr<MaskProvider> provider_;
   SemanticOptions options_;
   DynamicObjects current_;
   cv::Mat previous_small_;  // The previous frame's grey image, downscaled.
   int frames_since_detection_ = 0;
-  int empty_detections_ = 0;  // Detections in a row that found no dynamic object.
+  int empty_detections_ = 0;   // Detections in a row that found no dynamic object.
+  int steady_detections_ = 0;  // Detections in a row that agreed with the carried objects.
   double provider_ms_ = 0.0, propagation_ms_ = 0.0, wait_ms_ = 0.0;
   bool last_was_detection_ = false;
   // Pipelined detection (detector_latency > 0): at most one in flight. Declared after provider_
@@ -108,6 +119,7 @@ class SemanticFilter : public KeypointFilter {
   std::future<DynamicObjects> pending_;
   FrameId pending_frame_ = 0;
   cv::Mat pending_small_;
+  std::vector<DynamicObject> pending_carried_;  // The objects carried to the pending frame.
   double pending_provider_ms_ = 0.0;  // Written by the worker before its result is ready.
 };
 

@@ -361,6 +361,80 @@ TEST(SemanticFilter, QuietScheduleDetectsLessOftenUntilAnObjectIsFound) {
   EXPECT_THROW(bad.Validate(), InputError);
 }
 
+// Steady scenes: after two detections in a row agreed with the objects carried to them, only every
+// 8th frame is detected, until one does not. ExtraObjectProvider adds a static second object at
+// one frame: that detection and the next (whose carried objects still hold it) disagree.
+class ExtraObjectProvider : public SquareProvider {
+ public:
+  DynamicObjects Masks(const MaskQuery& query) override {
+    DynamicObjects out = SquareProvider::Masks(query);
+    if (query.frame_id == extra_at) {
+      Detection d;
+      d.box = cv::Rect2f(180.f, 100.f, 30.f, 30.f);
+      d.class_id = 0;
+      const RefinedMask r = AddRefinedBoxMask(d.box, *query.depth_m, refine, 0.f, &out.mask);
+      out.objects.push_back({d, r.depth_m});
+    }
+    return out;
+  }
+  FrameId extra_at = -1;
+};
+
+std::vector<FrameId> SteadyScheduleCalls(int steady_every, double min_iou, int latency,
+                                         FrameId extra_at) {
+  auto provider = std::make_unique<ExtraObjectProvider>();
+  provider->extra_at = extra_at;
+  provider->refine.dilation_px = 0;  // Masks on the square only: the carried boxes follow it.
+  auto log = std::make_shared<std::vector<FrameId>>();
+  provider->log = log;
+  SemanticOptions options;
+  options.detect_every = 4;
+  options.detector_latency = latency;
+  options.steady_detect_every = steady_every;
+  options.steady_after = 2;
+  options.steady_min_iou = min_iou;
+  options.refine.dilation_px = 0;
+  {
+    SemanticFilter filter(std::move(provider), options);
+    for (int frame = 0; frame < 40; ++frame) FilterSquareFrame(&filter, frame);
+  }
+  return *log;
+}
+
+TEST(SemanticFilter, SteadyScheduleDetectsLessOftenWhileDetectionsAgreeWithTheCarriedObjects) {
+  const std::vector<FrameId> every4{0, 4, 8, 12, 16, 20, 24, 28, 32, 36};
+  for (int latency : {0, 2}) {
+    SCOPED_TRACE(latency);
+    EXPECT_EQ(SteadyScheduleCalls(0, 0.7, latency, 16), every4);  // off
+    // Frame 0 has nothing carried (disagrees); 4 and 8 agree: steady from 8 on (12 skipped).
+    // 16 finds a second object and 20 has it carried but not detected: every 4th frame until 24
+    // and 28 agree; then 32 (36 skipped).
+    EXPECT_EQ(SteadyScheduleCalls(8, 0.7, latency, 16),
+              (std::vector<FrameId>{0, 4, 8, 16, 20, 24, 28, 32}));
+    // Without the extra object: steady from 8 to the end.
+    EXPECT_EQ(SteadyScheduleCalls(8, 0.7, latency, -1),
+              (std::vector<FrameId>{0, 4, 8, 16, 24, 32}));
+  }
+  // Inline, a detection is compared with the objects carried to the previous frame: the square
+  // has moved 3 px since (IoU 37/43 = 0.86), below a 0.95 gate: never steady. Pipelined, the
+  // objects were carried to the detected frame itself, and they agree.
+  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 0, -1), every4);
+  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 2, -1), (std::vector<FrameId>{0, 4, 8, 16, 24, 32}));
+  SemanticOptions bad;
+  bad.steady_detect_every = 6;  // not a multiple of detect_every (4)
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.steady_detect_every = 8;
+  bad.steady_after = 0;
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.steady_after = 2;
+  for (double iou : {0.0, -0.5, 1.5}) {
+    bad.steady_min_iou = iou;
+    EXPECT_THROW(bad.Validate(), InputError);
+  }
+  bad.steady_min_iou = 1.0;
+  EXPECT_NO_THROW(bad.Validate());
+}
+
 // Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
 // k + latency; the calls and results do not depend on thread timing.
 std::vector<std::vector<bool>> RunPipelined(int latency, std::vector<FrameId>* calls, std::vector<bool>* arrived) {
