@@ -51,9 +51,15 @@ TEST(RunModes, FastAndFusedDefaultsDifferWhereMeasuredAndTheKeyOverridesThem) {
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "residual_static_veto"), "true");
   EXPECT_EQ(ValueIn(EffectiveYaml("fast", ""), "fast", "quiet_analyse_every"), "2");
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "fast", "quiet_analyse_every"), "1");
-  // The semantic quiet schedule in semantic mode only.
+  // The semantic quiet and steady schedules in semantic mode only.
   EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "quiet_detect_every"), "8");
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "semantic", "quiet_detect_every"), "0");
+  EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "steady_detect_every"), "8");
+  EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "steady_min_iou"), "0.85");
+  EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "semantic", "steady_detect_every"), "0");
+  EXPECT_EQ(ValueIn(EffectiveYaml("semantic", "semantic:\n  steady_detect_every: 0\n"), "semantic",
+                    "steady_detect_every"),
+            "0");
 }
 
 TEST(RunModes, UnknownModeAndBadSectionValueAreInputErrors) {
