@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -377,7 +378,8 @@ class ExtraObjectProvider : public SquareProvider {
     }
     return out;
   }
-  FrameId extra_at = -1;
+  static constexpr FrameId kNever = std::numeric_limits<FrameId>::max();
+  FrameId extra_at = kNever;
 };
 
 std::vector<FrameId> SteadyScheduleCalls(int steady_every, double min_iou, int latency,
@@ -412,14 +414,15 @@ TEST(SemanticFilter, SteadyScheduleDetectsLessOftenWhileDetectionsAgreeWithTheCa
     EXPECT_EQ(SteadyScheduleCalls(8, 0.7, latency, 16),
               (std::vector<FrameId>{0, 4, 8, 16, 20, 24, 28, 32}));
     // Without the extra object: steady from 8 to the end.
-    EXPECT_EQ(SteadyScheduleCalls(8, 0.7, latency, -1),
+    EXPECT_EQ(SteadyScheduleCalls(8, 0.7, latency, ExtraObjectProvider::kNever),
               (std::vector<FrameId>{0, 4, 8, 16, 24, 32}));
   }
   // Inline, a detection is compared with the objects carried to the previous frame: the square
   // has moved 3 px since (IoU 37/43 = 0.86), below a 0.95 gate: never steady. Pipelined, the
   // objects were carried to the detected frame itself, and they agree.
-  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 0, -1), every4);
-  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 2, -1), (std::vector<FrameId>{0, 4, 8, 16, 24, 32}));
+  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 0, ExtraObjectProvider::kNever), every4);
+  EXPECT_EQ(SteadyScheduleCalls(8, 0.95, 2, ExtraObjectProvider::kNever),
+            (std::vector<FrameId>{0, 4, 8, 16, 24, 32}));
   SemanticOptions bad;
   bad.steady_detect_every = 6;  // not a multiple of detect_every (4)
   EXPECT_THROW(bad.Validate(), InputError);
