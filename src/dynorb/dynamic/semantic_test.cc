@@ -322,21 +322,28 @@ class AppearingSquareProvider : public SquareProvider {
   FrameId appears_at = 0;
 };
 
+// The frames `provider` was asked for over frames 0 .. num_frames - 1 of FilterSquareFrame, with
+// detect_every 4 and the given latency.
+std::vector<FrameId> ScheduleCalls(std::unique_ptr<SquareProvider> provider,
+                                   SemanticOptions options, int latency, int num_frames) {
+  auto log = std::make_shared<std::vector<FrameId>>();
+  provider->log = log;
+  options.detect_every = 4;
+  options.detector_latency = latency;
+  {
+    SemanticFilter filter(std::move(provider), options);
+    for (int frame = 0; frame < num_frames; ++frame) FilterSquareFrame(&filter, frame);
+  }
+  return *log;
+}
+
 std::vector<FrameId> QuietScheduleCalls(int quiet_every, int latency, FrameId appears_at) {
   auto provider = std::make_unique<AppearingSquareProvider>();
   provider->appears_at = appears_at;
-  auto log = std::make_shared<std::vector<FrameId>>();
-  provider->log = log;
   SemanticOptions options;
-  options.detect_every = 4;
-  options.detector_latency = latency;
   options.quiet_detect_every = quiet_every;
   options.quiet_after_empty = 2;
-  {
-    SemanticFilter filter(std::move(provider), options);
-    for (int frame = 0; frame < 30; ++frame) FilterSquareFrame(&filter, frame);
-  }
-  return *log;
+  return ScheduleCalls(std::move(provider), options, latency, 30);
 }
 
 TEST(SemanticFilter, QuietScheduleDetectsLessOftenUntilAnObjectIsFound) {
@@ -387,20 +394,12 @@ std::vector<FrameId> SteadyScheduleCalls(int steady_every, double min_iou, int l
   auto provider = std::make_unique<ExtraObjectProvider>();
   provider->extra_at = extra_at;
   provider->refine.dilation_px = 0;  // Masks on the square only: the carried boxes follow it.
-  auto log = std::make_shared<std::vector<FrameId>>();
-  provider->log = log;
   SemanticOptions options;
-  options.detect_every = 4;
-  options.detector_latency = latency;
   options.steady_detect_every = steady_every;
   options.steady_after = 2;
   options.steady_min_iou = min_iou;
   options.refine.dilation_px = 0;
-  {
-    SemanticFilter filter(std::move(provider), options);
-    for (int frame = 0; frame < 40; ++frame) FilterSquareFrame(&filter, frame);
-  }
-  return *log;
+  return ScheduleCalls(std::move(provider), options, latency, 40);
 }
 
 TEST(SemanticFilter, SteadyScheduleDetectsLessOftenWhileDetectionsAgreeWithTheCarriedObjects) {
