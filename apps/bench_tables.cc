@@ -1,6 +1,7 @@
 #include "bench_tables.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -213,8 +214,12 @@ BenchTable SummaryTable(const Runs& runs, const Names& names) {
         known_sum += *of;
         const Json& by_object =
             (*stats)["map_landmarks_on_dynamic_objects"].value("by_object", Json::object());
-        for (const auto& [id, count] : by_object.items()) {
-          if (count.is_number()) by_object_sum[std::stoi(id)] += count.get<double>();
+        for (const auto& [key, count] : by_object.items()) {
+          int id = 0;
+          const auto [end, error] = std::from_chars(key.data(), key.data() + key.size(), id);
+          if (error != std::errc() || end != key.data() + key.size() || !count.is_number())
+            continue;  // not a mask id
+          by_object_sum[id] += count.get<double>();
         }
       }
     }
