@@ -80,8 +80,7 @@ std::unique_ptr<KeypointFilter> SemanticModeFactory::Create(const RunModeContext
   if (source_ == "detector") {
     provider = std::make_unique<DetectorMaskProvider>(options);
   } else {
-    options.detect_every = 1;  // files give every frame
-    options.detector_latency = 0;
+    options = EveryFrameSchedule(options);  // files give every frame
     std::string list = list_;
     if (source_ == "oracle") list = (std::filesystem::path(context.dataset) / "masks.txt").string();
     if (list.empty()) throw InputError("semantic.source " + source_ + " needs semantic.list");

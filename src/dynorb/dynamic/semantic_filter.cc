@@ -78,6 +78,14 @@ void SemanticOptions::Validate() const {
   ResolveDynamicClasses(classes, CocoClassNames());
 }
 
+SemanticOptions EveryFrameSchedule(SemanticOptions options) {
+  options.detect_every = 1;
+  options.detector_latency = 0;
+  options.quiet_detect_every = 0;
+  options.steady_detect_every = 0;
+  return options;
+}
+
 DetectorOptions SemanticDetectorOptions(const SemanticOptions& options) {
   DetectorOptions detector = options.detector;
   detector.classes.clear();

@@ -56,6 +56,11 @@ struct SemanticOptions {
   void Validate() const;
 };
 
+// `options` for a provider that has every frame (mask or box files, the oracle): every frame is
+// asked, inline, with the quiet and steady schedules off (they would leave frames unread whose
+// masks the file has: a mask file gives no objects, so every read looks empty to them).
+SemanticOptions EveryFrameSchedule(SemanticOptions options);
+
 // options.detector asked for options.classes only (spelled as the models' names files spell
 // them): a box takes the best-scoring dynamic class, and a darknet model runs with its heads cut
 // to those classes (DetectorOptions::prune_heads).

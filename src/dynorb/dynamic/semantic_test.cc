@@ -489,6 +489,47 @@ TEST(SemanticFilter, PipelinedDetectionIsUsedLatencyFramesLaterAndCarried) {
       InputError);
 }
 
+// A mask file gives masks but no objects: to the quiet schedule every read looks empty. With
+// EveryFrameSchedule (what `dynorb run` uses for mask and box files and the oracle) every frame is
+// read and masked; with only detect_every 1 and --mode semantic's schedules, frames 2-7 and 9-11
+// would go unread and unmasked (sessions 52-53: the bench's view-loss reference).
+class MaskOnlyProvider : public SquareProvider {
+ public:
+  DynamicObjects Masks(const MaskQuery& query) override {
+    DynamicObjects out = SquareProvider::Masks(query);
+    out.objects.clear();
+    return out;
+  }
+};
+
+TEST(SemanticFilter, EveryFrameScheduleReadsAFileProviderOnEveryFrame) {
+  SemanticOptions mode_defaults;  // as in --mode semantic
+  mode_defaults.quiet_detect_every = 8;
+  mode_defaults.steady_detect_every = 8;
+  mode_defaults.detector_latency = 2;
+  const SemanticOptions every = EveryFrameSchedule(mode_defaults);
+  EXPECT_EQ(every.detect_every, 1);
+  EXPECT_EQ(every.detector_latency, 0);
+  EXPECT_NO_THROW(every.Validate());
+  SemanticOptions detect_every_only = mode_defaults;
+  detect_every_only.detect_every = 1;
+  detect_every_only.detector_latency = 0;
+  for (const auto& [options, expected] :
+       std::vector<std::pair<SemanticOptions, std::vector<FrameId>>>{
+           {every, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}}, {detect_every_only, {0, 1, 8}}}) {
+    auto provider = std::make_unique<MaskOnlyProvider>();
+    provider->refine.dilation_px = 0;
+    auto log = std::make_shared<std::vector<FrameId>>();
+    provider->log = log;
+    SemanticFilter filter(std::move(provider), options);
+    int masked = 0;
+    for (int frame = 0; frame < 12; ++frame)
+      masked += FilterSquareFrame(&filter, frame).keep[0] ? 0 : 1;
+    EXPECT_EQ(*log, expected);
+    EXPECT_EQ(masked, static_cast<int>(expected.size()));  // the square's centre, where read
+  }
+}
+
 TEST(FileMaskProvider, BoxesAndMasksLists) {
   const fs::path dir = fs::temp_directory_path() / "dynorb_semantic_test_files";
   fs::create_directories(dir);
