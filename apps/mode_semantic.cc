@@ -48,7 +48,8 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
       .Add("steady_after", &o.steady_after,
            "detections in a row agreeing with the carried objects that start the steady schedule")
       .Add("steady_min_iou", &o.steady_min_iou,
-           "agreement: same object count, every box matched both ways at this IoU or more")
+           "agreement: as many objects, paired one to one at this IoU or more (steady_detect_every "
+           "+ detector_latency - 1 <= max_carried_frames)")
       .Add("carry_grid", &o.carry_grid,
            "carrying tracks up to carry_grid^2 points per object (2..16)")
       .Add("carry_downscale", &o.carry_downscale,

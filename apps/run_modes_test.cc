@@ -56,6 +56,7 @@ TEST(RunModes, FastAndFusedDefaultsDifferWhereMeasuredAndTheKeyOverridesThem) {
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "semantic", "quiet_detect_every"), "0");
   EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "steady_detect_every"), "8");
   EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "steady_min_iou"), "0.85");
+  EXPECT_EQ(ValueIn(EffectiveYaml("semantic", ""), "semantic", "steady_after"), "2");
   EXPECT_EQ(ValueIn(EffectiveYaml("fused", ""), "semantic", "steady_detect_every"), "0");
   EXPECT_EQ(ValueIn(EffectiveYaml("semantic", "semantic:\n  steady_detect_every: 0\n"), "semantic",
                     "steady_detect_every"),

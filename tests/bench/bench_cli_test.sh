@@ -85,10 +85,12 @@ for needle in "| syn_walking_xyz | 0.0500 [0.0400-0.0600] | 0.0130 [0.0120-0.014
   "| syn_walking_xyz | 0.0250 [0.0200-0.0300] | 0.0065 [0.0060-0.0070] |" \
   "## CPU time per frame [ms]" "| syn_walking_xyz | 40.0 [40.0-40.0] | 56.0 [52.0-60.0] |" \
   "## CPU ratio to plain" "| syn_walking_xyz | 1.00x [1.00-1.00] | 1.40x [1.30-1.50] |" \
-  "## Summary per mode" "| plain | 0.0500 | 3.50 [3.00-4.00] | 0 of 2 | 21.0 [20.0-22.0] | 1.00x [1.00-1.00] | - |" \
-  "| fast | 0.0130 | 1.10 [1.00-1.20] | 2 of 2 | 31.5 [30.0-33.0] | 1.50x [1.50-1.50] | - |"; do
+  "## Summary per mode" "| plain | 2 of 2 | 0.0500 | 3.50 [3.00-4.00] | 0 of 2 | 21.0 [20.0-22.0] | 1.00x [1.00-1.00] | - |" \
+  "| fast | 2 of 2 | 0.0130 | 1.10 [1.00-1.20] | 2 of 2 | 31.5 [30.0-33.0] | 1.50x [1.50-1.50] | - |"; do
   grep -qF -- "$needle" "$MD" || fail "report.md lacks '$needle'"
 done
+# The summary is the report's first table.
+[[ $(grep -m1 -n '^## ' "$MD") == *"## Summary per mode" ]] || fail "report.md does not open with the summary"
 HTML="$DIR/stored/report.html"
 [[ $(grep -c "<table" "$HTML") -ge 8 ]] || fail "report.html: fewer than 8 tables"
 grep -qF "report test fixture &lt;&amp;&gt;" "$HTML" || fail "report.html: text not escaped"
@@ -127,7 +129,7 @@ EOF
 "$DYNORB" bench --report "$DIR/pooled" >/dev/null || fail "--report pooled"
 for needle in "| syn_walking_rpy | 1.75 [1.50-2.00] | 0.55 [0.50-0.60] |" \
   "| all sequences and seeds | 2.50 [1.50-4.00] | 0.80 [0.50-1.20] |" "| ratio <= 1.3 | 0 of 4 | 4 of 4 |" \
-  "| plain | 0.0375 | 2.50 [1.50-4.00] | 0 of 4 | 21.0 [20.0-22.0] | 1.00x [1.00-1.00] | 20.00 (1: 15.00, 4: 5.00) |"; do
+  "| plain | 4 of 4 | 0.0375 | 2.50 [1.50-4.00] | 0 of 4 | 21.0 [20.0-22.0] | 1.00x [1.00-1.00] | 20.00 (1: 15.00, 4: 5.00) |"; do
   grep -qF -- "$needle" "$DIR/pooled/report.md" || fail "pooled report.md lacks '$needle'"
 done
 grep -qF "all sequences and seeds" "$MD" && fail "one dynamic sequence must not get a pooled row"

@@ -1,6 +1,7 @@
 #include "dynorb/dynamic/semantic_filter.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -13,16 +14,28 @@ namespace {
 
 constexpr int kCarryWindowRadius = 10;  // Half the 21 px LK window, in full-resolution pixels.
 
-// Whether every box of `a` overlaps some box of `b` by at least min_iou.
-bool AllMatched(const std::vector<DynamicObject>& a, const std::vector<DynamicObject>& b,
-                double min_iou) {
-  for (const DynamicObject& x : a) {
-    float best = 0.f;
-    for (const DynamicObject& y : b)
-      best = std::max(best, BoxIou(x.detection.box, y.detection.box));
-    if (best < min_iou) return false;
+// Whether `a` and `b` (as many objects each) pair up one to one with every pair's boxes at IoU
+// >= min_iou: pairs are taken greedily, the highest IoU first.
+bool PairUp(const std::vector<DynamicObject>& a, const std::vector<DynamicObject>& b,
+            double min_iou) {
+  if (a.size() != b.size()) return false;
+  std::vector<std::tuple<float, size_t, size_t>> pairs;
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (size_t j = 0; j < b.size(); ++j) {
+      const float iou = BoxIou(a[i].detection.box, b[j].detection.box);
+      if (iou >= min_iou) pairs.emplace_back(iou, i, j);
+    }
   }
-  return true;
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
+  std::vector<bool> used_a(a.size(), false), used_b(b.size(), false);
+  size_t paired = 0;
+  for (const auto& [iou, i, j] : pairs) {
+    if (used_a[i] || used_b[j]) continue;
+    used_a[i] = used_b[j] = true;
+    ++paired;
+  }
+  return paired == a.size();
 }
 
 }  // namespace
@@ -69,8 +82,16 @@ void SemanticOptions::Validate() const {
         std::to_string(detect_every) + "), got " + std::to_string(steady_detect_every));
   }
   if (steady_after < 1) throw InputError("semantic.steady_after must be >= 1");
-  if (!(steady_min_iou > 0.0 && steady_min_iou <= 1.0))
-    throw InputError("semantic.steady_min_iou must be in (0, 1]");
+  // Carried objects older than max_carried_frames are dropped: a longer gap between detections
+  // would leave people unmasked until the next one.
+  if (steady_detect_every > 0 && steady_detect_every + detector_latency - 1 > max_carried_frames) {
+    throw InputError("semantic.steady_detect_every (" + std::to_string(steady_detect_every) +
+                     ") + detector_latency - 1 must be <= max_carried_frames (" +
+                     std::to_string(max_carried_frames) + ")");
+  }
+  // Below 0.5 one box could overlap two others enough to be paired with either.
+  if (!(steady_min_iou >= 0.5 && steady_min_iou <= 1.0))
+    throw InputError("semantic.steady_min_iou must be in [0.5, 1]");
   if (carry_grid < 2 || carry_grid > 16) throw InputError("semantic.carry_grid must be in [2, 16]");
   if (carry_downscale != 1 && carry_downscale != 2)
     throw InputError("semantic.carry_downscale must be 1 or 2");
@@ -214,11 +235,10 @@ bool SemanticFilter::Scheduled(FrameId frame_id) const {
 void SemanticFilter::CountDetection(const DynamicObjects& detected,
                                     const std::vector<DynamicObject>& carried) {
   empty_detections_ = detected.objects.empty() ? empty_detections_ + 1 : 0;
-  // Agreement: as many objects as were carried, each matched both ways. An empty scene is the
+  // Agreement: as many objects as were carried, paired one to one. An empty scene is the
   // quiet schedule's business, not a steady one.
-  const bool agree = !detected.objects.empty() && detected.objects.size() == carried.size() &&
-                     AllMatched(detected.objects, carried, options_.steady_min_iou) &&
-                     AllMatched(carried, detected.objects, options_.steady_min_iou);
+  const bool agree =
+      !detected.objects.empty() && PairUp(detected.objects, carried, options_.steady_min_iou);
   steady_detections_ = agree ? steady_detections_ + 1 : 0;
 }
 

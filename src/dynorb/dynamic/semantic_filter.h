@@ -9,8 +9,9 @@
 // max_carried_frames are dropped. Called from the tracking thread only.
 // Fewer detections: after quiet_after_empty detections in a row found no dynamic object, only
 // every quiet_detect_every-th frame is detected; after steady_after detections in a row agreed
-// with the objects carried to them (same count, boxes matched at steady_min_iou), only every
-// steady_detect_every-th. Both depend on the detections only, so the schedule stays deterministic.
+// with the carried objects (as many objects, paired one to one at IoU >= steady_min_iou; inline,
+// the objects as carried to the previous frame, pipelined, to the detected frame), only every
+// steady_detect_every-th. Both depend on the images only, never on timing: deterministic.
 // With detector_latency L > 0 the provider runs on a worker thread: the detection of frame k is
 // started at frame k and used at frame k + L (carried by flow from frame k), so the detector
 // overlaps tracking on a second core while the schedule stays deterministic.
@@ -47,7 +48,9 @@ struct SemanticOptions {
   int quiet_after_empty = 2;    // this many detections in a row without a dynamic object
   int steady_detect_every = 0;  // 0: off; else a multiple of detect_every, the schedule after
   int steady_after = 2;         // this many detections in a row that agreed with the carried
-  double steady_min_iou = 0.7;  // objects: same count, each box matched at this IoU or more
+  double steady_min_iou = 0.7;  // objects: as many, paired one to one at this IoU or more
+                                // (steady_detect_every + detector_latency - 1 must be at most
+                                // max_carried_frames)
   int carry_grid = 4;           // carrying tracks up to carry_grid^2 points per object (LK;
                                 // session 34: 4 instead of 8, 0.2 ms less, same accuracy)
   int carry_downscale = 2;      // carrying tracks on images downscaled by 1 (full resolution) or

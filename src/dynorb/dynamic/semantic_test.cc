@@ -429,12 +429,23 @@ TEST(SemanticFilter, SteadyScheduleDetectsLessOftenWhileDetectionsAgreeWithTheCa
   bad.steady_after = 0;
   EXPECT_THROW(bad.Validate(), InputError);
   bad.steady_after = 2;
-  for (double iou : {0.0, -0.5, 1.5}) {
+  for (double iou : {0.0, 0.4, -0.5, 1.5, std::nan("")}) {
     bad.steady_min_iou = iou;
-    EXPECT_THROW(bad.Validate(), InputError);
+    EXPECT_THROW(bad.Validate(), InputError) << iou;
   }
   bad.steady_min_iou = 1.0;
   EXPECT_NO_THROW(bad.Validate());
+  bad.steady_detect_every = -8;
+  EXPECT_THROW(bad.Validate(), InputError);
+  // Carried objects live max_carried_frames (15) frames: a detection every 16th frame inline is
+  // the longest gap, and 16 at a latency of 2 is too long.
+  bad.steady_detect_every = 16;
+  EXPECT_NO_THROW(bad.Validate());
+  bad.detector_latency = 2;
+  EXPECT_THROW(bad.Validate(), InputError);
+  bad.detector_latency = 0;
+  bad.steady_detect_every = 20;
+  EXPECT_THROW(bad.Validate(), InputError);
 }
 
 // Pipelined detection: frame k's detection runs on a worker and is used (carried by flow) at frame
