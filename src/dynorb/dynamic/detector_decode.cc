@@ -54,8 +54,11 @@ ResizeTransform LetterboxTransform(cv::Size image, cv::Size net, bool centered) 
   const double scale = std::min(static_cast<double>(net.width) / image.width,
                                 static_cast<double>(net.height) / image.height);
   t.scale_x = t.scale_y = scale;
-  t.resized_size = cv::Size(std::min(net.width, static_cast<int>(std::lround(image.width * scale))),
-                            std::min(net.height, static_cast<int>(std::lround(image.height * scale))));
+  // At least one pixel either way (a 2000 x 2 image would round to 0 rows, which cv::resize
+  // refuses).
+  t.resized_size =
+      cv::Size(std::clamp(static_cast<int>(std::lround(image.width * scale)), 1, net.width),
+               std::clamp(static_cast<int>(std::lround(image.height * scale)), 1, net.height));
   if (centered) {
     t.pad_x = (net.width - t.resized_size.width) / 2;
     t.pad_y = (net.height - t.resized_size.height) / 2;

@@ -15,6 +15,13 @@ TEST(DetectorDecode, LetterboxTopLeftAndCentred) {
   EXPECT_EQ(top.pad_y, 0.0);
   const ResizeTransform mid = LetterboxTransform({640, 480}, {320, 320}, true);
   EXPECT_DOUBLE_EQ(mid.scale_x, 0.5);
+  // A sliver keeps at least one row (0 rows would make cv::resize throw).
+  const ResizeTransform sliver = LetterboxTransform({2000, 2}, {320, 320}, true);
+  EXPECT_EQ(sliver.resized_size, cv::Size(320, 1));
+  EXPECT_EQ(
+      ApplyResize(cv::Mat(2, 2000, CV_8UC3, cv::Scalar(1, 2, 3)), sliver, cv::Scalar(114, 114, 114))
+          .size(),
+      cv::Size(320, 320));
   EXPECT_EQ(mid.pad_x, 0.0);
   EXPECT_EQ(mid.pad_y, 40.0);
   // A network box maps back through the pad and scale.

@@ -77,7 +77,8 @@ std::vector<CueVote> DirectionCue(const std::vector<cv::Point2f>& p1, const std:
     if (best < 0) continue;
     const cv::Point2f g = p2[best] - p1[best];
     const double glen = std::hypot(g.x, g.y);
-    if (len < min_flow_px || glen < min_flow_px) continue;
+    // A flow of length 0 has no direction (min_flow_px 0 would otherwise compare 0 / 0).
+    if (len < min_flow_px || glen < min_flow_px || len == 0.0 || glen == 0.0) continue;
     const double cosine = (f.x * g.x + f.y * g.y) / (len * glen);
     votes[i] = cosine < cos_max ? CueVote::kMoving : CueVote::kStatic;
   }

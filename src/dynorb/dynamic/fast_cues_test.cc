@@ -96,6 +96,9 @@ TEST(DirectionCue, IndependentMoverInUniformFlow) {
   // Flows too short to have a direction give no vote.
   const std::vector<CueVote> none = DirectionCue(p2, p2, valid, ref, 30.0, 1.0);
   for (CueVote v : none) EXPECT_EQ(static_cast<int>(v), static_cast<int>(CueVote::kUnknown));
+  // Nor with no minimum length (0 / 0 gave a static vote before session 54).
+  const std::vector<CueVote> still = DirectionCue(p2, p2, valid, ref, 30.0, 0.0);
+  for (CueVote v : still) EXPECT_EQ(static_cast<int>(v), static_cast<int>(CueVote::kUnknown));
 }
 
 TEST(MagnitudeCue, OutliersBeyondTwoSigmaAndSmallSigmaFallback) {

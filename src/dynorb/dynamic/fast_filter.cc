@@ -332,7 +332,8 @@ void FastFilter::EstimateFundamental(FrameWork* w) {
     f_index.push_back(static_cast<int>(i));
   }
   if (f1.size() >= 15) {
-    cv::setRNGSeed(static_cast<int>(options_.seed & 0x7fffffff) + 1);
+    // 1 .. 2^31 - 1 (the same as (seed & 0x7fffffff) + 1 below 2^31 - 1, without its overflow).
+    cv::setRNGSeed(static_cast<int>(options_.seed % 0x7fffffff) + 1);
     std::vector<uint8_t> inlier_mask;
     const cv::Mat f = cv::findFundamentalMat(f1, f2, cv::FM_RANSAC, options_.f_ransac_px,
                                              options_.f_confidence, inlier_mask);

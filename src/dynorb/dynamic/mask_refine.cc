@@ -21,10 +21,14 @@ float Median(std::vector<float>* values) {
   return *mid;
 }
 
+// A measured depth: positive and finite (0 = none; inf or NaN from a caller's conversion).
+bool ValidDepth(float z) { return z > 0.f && std::isfinite(z); }
+
 // Most populated 0.1 m bin of `values` (ties: the nearer bin), as its centre depth.
 float ModeDepth(const std::vector<float>& values) {
   std::vector<int> hist(kBins, 0);
-  for (float v : values) hist[std::min(kBins - 1, static_cast<int>(v / kBinM))]++;
+  // Clamped before the cast: a depth beyond 12 m (or far beyond int's range) is the last bin.
+  for (float v : values) hist[static_cast<int>(std::min(v / kBinM, kBins - 1.0))]++;
   // Smooth over 3 bins so a cluster split across a bin edge still wins.
   int best = 0, best_count = -1;
   for (int b = 0; b < kBins; ++b) {
@@ -95,12 +99,12 @@ RefinedMask AddRefinedBoxMask(const cv::Rect2f& box, const cv::Mat& depth_m, con
     const float* row = depth.ptr<float>(y);
     for (int x = 0; x < depth.cols; x += kStep) {
       all[num_all] = row[x];
-      num_all += row[x] > 0.f;
+      num_all += ValidDepth(row[x]);
     }
     if (y < cy0 || y > cy1) continue;
     for (int x = cx0; x <= cx1; x += kStep) {
       central[num_central] = row[x];
-      num_central += row[x] > 0.f;
+      num_central += ValidDepth(row[x]);
     }
   }
   all.resize(num_all);

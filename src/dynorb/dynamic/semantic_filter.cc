@@ -242,6 +242,11 @@ void SemanticFilter::CountDetection(const DynamicObjects& detected,
   steady_detections_ = agree ? steady_detections_ + 1 : 0;
 }
 
+void SemanticFilter::DropPending() {
+  pending_.wait();
+  pending_ = std::future<DynamicObjects>();
+}
+
 FilterOutput SemanticFilter::Filter(const FilterInput& input) {
   CV_Assert(input.bgr && input.gray && input.keypoints);
   const cv::Mat no_depth;
@@ -275,6 +280,10 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     // carried by flow from frame k to the current one.
     ++frames_since_detection_;
     current_ = Carry(current_, previous_small_, small, input.gray->size(), depth);
+    // Ids that do not increase (a caller going on after the System dropped frames whose front
+    // ends had run): the detection in flight belongs to a frame that is not coming; it is waited
+    // for and dropped.
+    if (pending_.valid() && seen_frame_ && input.frame_id <= last_frame_id_) DropPending();
     if (pending_.valid() && input.frame_id >= pending_frame_ + static_cast<FrameId>(options_.detector_latency)) {
       Stopwatch wait;
       DynamicObjects detected = pending_.get();
@@ -287,6 +296,9 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     }
     propagation_ms_ = watch.ElapsedMs() - wait_ms_;
     if (Scheduled(input.frame_id)) {  // After the pending result arrived: it may end a quiet spell.
+      // One detection at a time (the provider is not thread-safe): with increasing ids the
+      // previous one was taken at pending_frame_ + latency < this frame; this is a safety net.
+      if (pending_.valid()) DropPending();
       pending_frame_ = input.frame_id;
       small.copyTo(pending_small_);
       pending_carried_ = current_.objects;
@@ -302,15 +314,17 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     }
   }
   previous_small_ = std::move(small);
+  last_frame_id_ = input.frame_id;
+  seen_frame_ = true;
 
   FilterOutput out;
   const std::vector<cv::KeyPoint>& keypoints = input.keypoints->keypoints;
   out.keep.assign(keypoints.size(), true);
   const cv::Mat& mask = current_.mask;
-  for (size_t i = 0; i < keypoints.size(); ++i) {
+  for (size_t i = 0; i < keypoints.size() && !mask.empty(); ++i) {
     const int x = std::clamp(static_cast<int>(keypoints[i].pt.x + 0.5f), 0, mask.cols - 1);
     const int y = std::clamp(static_cast<int>(keypoints[i].pt.y + 0.5f), 0, mask.rows - 1);
-    if (!mask.empty() && mask.at<uint8_t>(y, x) != 0) out.keep[i] = false;
+    if (mask.at<uint8_t>(y, x) != 0) out.keep[i] = false;
   }
   out.dynamic_mask = mask;
   if (input.want_overlay) {

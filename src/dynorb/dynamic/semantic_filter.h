@@ -112,6 +112,8 @@ class SemanticFilter : public KeypointFilter {
   // Updates empty_detections_ and steady_detections_ from a detection and the objects carried to
   // (about) the same frame.
   void CountDetection(const DynamicObjects& detected, const std::vector<DynamicObject>& carried);
+  // Waits for the detection in flight and discards it.
+  void DropPending();
 
   std::unique_ptr<MaskProvider> provider_;
   SemanticOptions options_;
@@ -129,6 +131,8 @@ class SemanticFilter : public KeypointFilter {
   cv::Mat pending_small_;
   std::vector<DynamicObject> pending_carried_;  // The objects carried to the pending frame.
   double pending_provider_ms_ = 0.0;  // Written by the worker before its result is ready.
+  FrameId last_frame_id_ = 0;         // The id of the last frame filtered (seen_frame_: any yet).
+  bool seen_frame_ = false;
 };
 
 }  // namespace dynorb

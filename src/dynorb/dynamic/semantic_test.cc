@@ -1,10 +1,13 @@
 // Semantic mode: real detectors on real images (hand-checked person regions), box -> mask depth
 // refinement, the deterministic schedule and mask carrying, FileMaskProvider, bad input.
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -190,6 +193,33 @@ TEST(MaskRefine, PersonBoxOverFarWallKeepsTheWall) {
   options.enabled = false;
   AddRefinedBoxMask({40, 10, 80, 110}, depth, options, 0.f, &box_mask);
   EXPECT_EQ(box_mask.at<uint8_t>(60, 45), 255);
+}
+
+// Depth a caller converted badly (inf, or beyond any sensor's range) is no measurement: before
+// session 54 an inf or a 3e8 m pixel in the box's centre wrote far outside a histogram (a crash).
+TEST(MaskRefine, InfiniteOrAbsurdDepthIsNoMeasurement) {
+  DepthRefineOptions options;
+  options.dilation_px = 0;
+  const cv::Rect2f box(16.f, 12.f, 32.f, 24.f);
+  cv::Mat reference_depth(48, 64, CV_32F, cv::Scalar(5.0f));
+  reference_depth(cv::Rect(24, 18, 16, 12)) = 2.0f;  // a near object in the box's centre
+  cv::Mat reference = cv::Mat::zeros(reference_depth.size(), CV_8U);
+  AddRefinedBoxMask(box, reference_depth, options, 0.f, &reference);
+  ASSERT_GT(cv::countNonZero(reference), 0);
+  for (float bad : {std::numeric_limits<float>::infinity(), 3e8f, 1e30f}) {
+    SCOPED_TRACE(bad);
+    cv::Mat depth = reference_depth.clone();
+    depth.at<float>(24, 32) = bad;  // one pixel in the centre
+    cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
+    AddRefinedBoxMask(box, depth, options, 0.f, &mask);
+    EXPECT_LE(cv::countNonZero(mask != reference), 1);  // at most the bad pixel itself
+  }
+  // No finite depth at all: the whole box is masked, as for a box without depth.
+  cv::Mat mask = cv::Mat::zeros(reference_depth.size(), CV_8U);
+  AddRefinedBoxMask(box,
+                    cv::Mat(48, 64, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity())),
+                    options, 0.f, &mask);
+  EXPECT_EQ(cv::countNonZero(mask), 32 * 24);
 }
 
 // Boxes from a file may lie anywhere: far outside the image, larger than an int, NaN.
@@ -498,6 +528,43 @@ TEST(SemanticFilter, PipelinedDetectionIsUsedLatencyFramesLaterAndCarried) {
         bad.Validate();
       },
       InputError);
+}
+
+// A slow provider that records how many of its calls ran at the same time.
+class SlowProvider : public MaskProvider {
+ public:
+  explicit SlowProvider(std::shared_ptr<std::atomic<int>> max_in_flight)
+      : max_in_flight_(std::move(max_in_flight)) {}
+  std::string name() const override { return "slow"; }
+  DynamicObjects Masks(const MaskQuery& query) override {
+    const int now = ++in_flight_;
+    int seen = max_in_flight_->load();
+    while (now > seen && !max_in_flight_->compare_exchange_weak(seen, now)) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    DynamicObjects out;
+    out.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
+    --in_flight_;
+    return out;
+  }
+
+ private:
+  std::atomic<int> in_flight_{0};
+  std::shared_ptr<std::atomic<int>> max_in_flight_;
+};
+
+// A caller that goes on after the System dropped frames whose front ends had run hands in ids
+// that were already seen: the detection in flight (frame 4's, due at frame 6) is dropped, and the
+// new frame 4 starts its own only after it ended. Before session 54 both ran on the one provider
+// at the same time.
+TEST(SemanticFilter, RepeatedFrameIdsNeverRunTwoDetectionsAtOnce) {
+  auto max_in_flight = std::make_shared<std::atomic<int>>(0);
+  SemanticOptions options;
+  options.detect_every = 4;
+  options.detector_latency = 2;
+  SemanticFilter filter(std::make_unique<SlowProvider>(max_in_flight), options);
+  for (int frame : {0, 1, 2, 3, 4, 5, 4, 5, 6, 7, 8}) FilterSquareFrame(&filter, frame);
+  EXPECT_EQ(max_in_flight->load(), 1);
 }
 
 // A mask file gives masks but no objects: to the quiet schedule every read looks empty. With
