@@ -1,7 +1,11 @@
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
+#include "dynorb/core/background_error.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/rigid3.h"
 #include "dynorb/core/stats.h"
@@ -54,6 +58,30 @@ TEST(TrimBlanks, StripsSpacesTabsAndLineEndsOnBothSidesOnly) {
   EXPECT_EQ(TrimBlanks("\t a b \n"), "a b");
   EXPECT_EQ(TrimBlanks(" \t\r\n"), "");
   EXPECT_EQ(TrimBlanks(""), "");
+}
+
+TEST(BackgroundError, KeepsTheFirstExceptionOfABackgroundThreadForItsOwner) {
+  BackgroundError error;
+  EXPECT_TRUE(error.Capture([] {}));
+  EXPECT_FALSE(error.failed());
+  EXPECT_NO_THROW(error.Rethrow());
+  bool first = false, second = false;
+  std::thread worker([&] {
+    first = error.Capture([] { throw std::runtime_error("mapper: first"); });
+    second = error.Capture([] { throw std::out_of_range("mapper: second"); });
+  });
+  worker.join();  // Without Capture the exception would have ended the process.
+  EXPECT_FALSE(first);
+  EXPECT_FALSE(second);
+  EXPECT_TRUE(error.failed());
+  for (int call = 0; call < 2; ++call) {  // Every call rethrows the first one.
+    try {
+      error.Rethrow();
+      ADD_FAILURE() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), "mapper: first");
+    }
+  }
 }
 
 }  // namespace

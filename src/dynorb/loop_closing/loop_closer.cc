@@ -43,16 +43,22 @@ LoopCloser::LoopCloser(const RgbdSensor& sensor, const TrackerOptions& tracker_o
       map_(map),
       relocalizer_(sensor, tracker_options) {}
 
-LoopCloser::~LoopCloser() { WaitForGlobalBa(); }
+LoopCloser::~LoopCloser() { JoinGlobalBa(); }
+
+void LoopCloser::JoinGlobalBa() {
+  if (global_ba_thread_.joinable()) global_ba_thread_.join();
+}
 
 void LoopCloser::WaitForGlobalBa() {
-  if (global_ba_thread_.joinable()) global_ba_thread_.join();
+  JoinGlobalBa();
+  global_ba_error_.Rethrow();
 }
 
 void LoopCloser::StopGlobalBa() {
   stop_global_ba_ = true;
-  WaitForGlobalBa();
+  JoinGlobalBa();
   stop_global_ba_ = false;
+  global_ba_error_.Rethrow();
 }
 
 std::vector<GlobalBaStats> LoopCloser::global_ba_stats() const {
@@ -71,7 +77,7 @@ void LoopCloser::StartGlobalBa() {
     global_ba_stats_.push_back(stats);
   };
   if (options_.global_ba_thread) {
-    global_ba_thread_ = std::thread(run);
+    global_ba_thread_ = std::thread([this, run] { global_ba_error_.Capture(run); });
   } else {
     run();
   }

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "dynorb/core/background_error.h"
 #include "dynorb/loop_closing/global_bundle_adjustment.h"
 #include "dynorb/map/map.h"
 #include "dynorb/mapping/mapper_options.h"
@@ -82,8 +83,11 @@ class LoopCloser {
   LoopCloser& operator=(const LoopCloser&) = delete;
 
   LoopStepStats ProcessOne(KeyframeId keyframe);
-  // Blocks until a global BA in the background (if any) has committed or given up.
+  // Blocks until a global BA in the background (if any) has committed or given up; then
+  // rethrows the exception a background global BA ended with, if one did (on every call).
   void WaitForGlobalBa();
+  // The same without the rethrow.
+  void JoinGlobalBa();
   std::vector<GlobalBaStats> global_ba_stats() const;
 
  private:
@@ -111,6 +115,8 @@ class LoopCloser {
   std::set<std::pair<KeyframeId, KeyframeId>>
       loop_edges_;  // (lower id, higher id), kept for later loops
   std::thread global_ba_thread_;
+  BackgroundError global_ba_error_;  // The background global BA's exception (std::thread's
+                                     // would end the process).
   std::atomic<bool> stop_global_ba_{false};
   mutable std::mutex global_ba_mutex_;  // guards global_ba_stats_
   std::vector<GlobalBaStats> global_ba_stats_;

@@ -52,7 +52,14 @@ System::System(const SystemOptions& options, std::unique_ptr<KeypointFilter> fil
     mapper_thread_ = std::thread([this] { MapperLoop(); });
 }
 
-System::~System() { Finish(); }
+System::~System() {
+  // Errors of background work surface through Finish() or the next ProcessFrame(); a destructor
+  // has no one to tell.
+  try {
+    Finish();
+  } catch (...) {
+  }
+}
 
 int System::front_end_threads() const {
   if (options_.front_end_threads != 0) return options_.front_end_threads;
@@ -100,10 +107,11 @@ void System::StartFrontEnd(const NextFrame& frame) {
     detect_jobs_->Push(std::move(detect));
   }
   std::packaged_task<FrontEnd()> job([this, id, frame, velocity = last_velocity_, initialized,
+                                      record_keypoints = record_keypoints_,
                                       detected = std::move(detected)]() mutable {
     return FinishFrontEnd(id, frame.timestamp_s, frame.bgr, frame.depth_m,
                           detected.valid() ? detected.get() : Detect(frame.bgr), velocity,
-                          initialized, frame.want_overlay);
+                          initialized, frame.want_overlay, record_keypoints);
   });
   pending_.push_back({frame.timestamp_s, job.get_future()});
   front_jobs_->Push(std::move(job));
@@ -115,7 +123,14 @@ void System::Finish() {
   finished_ = true;
   queue_.Close();
   if (mapper_thread_.joinable()) mapper_thread_.join();
-  loop_closer_.WaitForGlobalBa();
+  loop_closer_.JoinGlobalBa();
+  mapper_error_.Rethrow();
+  loop_closer_.WaitForGlobalBa();  // Rethrows a failed global BA's error.
+}
+
+void System::CheckCanProcess() const {
+  if (finished_) throw std::logic_error("System: a frame after Finish()");
+  mapper_error_.Rethrow();  // The mapper thread failed: the map can no longer be kept.
 }
 
 MapperStepStats System::MapKeyframe(KeyframeId keyframe) {
@@ -140,8 +155,12 @@ void System::MapperLoop() {
   KeyframeId kf;
   while (queue_.Pop(&kf)) {
     mapper_busy_ = true;
-    MapKeyframe(kf);
+    const bool ok = mapper_error_.Capture([&] { MapKeyframe(kf); });
     mapper_busy_ = false;
+    if (!ok) {
+      queue_.Close();  // The tracker's pushes fail instead of blocking on a full queue.
+      return;
+    }
   }
 }
 
@@ -163,6 +182,7 @@ const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr,
 
 const FrameRecord& System::ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                                         const std::vector<NextFrame>& ahead) {
+  CheckCanProcess();
   CheckImages(bgr, depth_m);
   for (const NextFrame& frame : ahead) CheckImages(frame.bgr, frame.depth_m);
   if (!pending_.empty()) {
@@ -227,13 +247,14 @@ System::FrontEnd System::RunFrontEnd(FrameId id, double timestamp_s, const cv::M
                                      const cv::Mat& depth_m, std::optional<Rigid3d> predicted_velocity,
                                      bool tracker_initialized, bool want_overlay) {
   return FinishFrontEnd(id, timestamp_s, bgr, depth_m, Detect(bgr), predicted_velocity,
-                        tracker_initialized, want_overlay);
+                        tracker_initialized, want_overlay, record_keypoints_);
 }
 
 System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
                                         const cv::Mat& depth_m, Detected detected,
                                         std::optional<Rigid3d> predicted_velocity,
-                                        bool tracker_initialized, bool want_overlay) {
+                                        bool tracker_initialized, bool want_overlay,
+                                        bool record_keypoints) {
   Stopwatch total, watch;
   FrontEnd front;
   FrameRecord& record = front.record;
@@ -243,7 +264,7 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
   const KeypointSet& set = detected.set;
   record.timing.detect_ms = detected.detect_ms;
   record.num_keypoints = set.size();
-  if (record_keypoints_) record.detected = set.keypoints;
+  if (record_keypoints) record.detected = set.keypoints;
 
   std::vector<bool> keep(set.size(), true);
   KeypointSet refilled;
@@ -268,7 +289,7 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
     record.timing.filter_stages_ms = filter_->StageTimings();
     for (bool k : keep) record.num_filtered += k ? 0 : 1;
     record.keep = keep;
-    if (record_keypoints_) record.cue_flags = filter_->CueFlags();
+    if (record_keypoints) record.cue_flags = filter_->CueFlags();
     if (want_overlay) record.filter_overlay = out.overlay;
     if (options_.tracker.dynamic_votes_to_erase > 0 && !out.moving_points.empty()) {
       front.moving_points = std::move(out.moving_points);
@@ -312,6 +333,7 @@ System::FrontEnd System::FinishFrontEnd(FrameId id, double timestamp_s, const cv
 
 const FrameRecord& System::ProcessFeatures(double timestamp_s,
                                            std::shared_ptr<const FrameFeatures> features) {
+  CheckCanProcess();
   if (!pending_.empty()) throw std::logic_error("ProcessFeatures after a pipelined ProcessFrame");
   Stopwatch total;
   FrameRecord record;

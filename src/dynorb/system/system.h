@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "dynorb/core/background_error.h"
 #include "dynorb/core/blocking_queue.h"
 #include "dynorb/core/trajectory.h"
 #include "dynorb/dynamic/keypoint_filter.h"
@@ -139,14 +140,19 @@ class System {
   // caller passes the same number of frames ahead each call (fewer only at the end).
   // When a front end throws (e.g. a filter's corrupt mask file), that exception is rethrown by
   // the call for its frame, which is then not processed, and the frames announced after it are
-  // dropped: the next call may pass any frame, as after an unpipelined failure.
+  // dropped: the next call may pass any frame, as after an unpipelined failure. The filter has
+  // seen the dropped frames (their front ends ran to the end) and goes on from there; the ids
+  // it is given repeat (a semantic filter drops a detection still in flight then).
   const FrameRecord& ProcessFrame(double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                                   const std::vector<NextFrame>& ahead);
   // Tracking from ready-made features (tests, external front ends).
   const FrameRecord& ProcessFeatures(double timestamp_s,
                                      std::shared_ptr<const FrameFeatures> features);
   // Waits for the mapper to process every queued keyframe and for a global BA in the background
-  // (parallel mode). Idempotent.
+  // (parallel mode). Idempotent. Rethrows the first exception of the mapper thread or of a
+  // background global BA (parallel mode; they stop at their first error). After Finish(),
+  // ProcessFrame and ProcessFeatures throw std::logic_error; after a failure of the mapper
+  // thread they rethrow its exception.
   void Finish();
 
   Trajectory FrameTrajectory() const;
@@ -191,12 +197,14 @@ class System {
   FrontEnd FinishFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr,
                           const cv::Mat& depth_m, Detected detected,
                           std::optional<Rigid3d> predicted_velocity, bool tracker_initialized,
-                          bool want_overlay);
+                          bool want_overlay, bool record_keypoints);
   FrontEnd RunFrontEnd(FrameId id, double timestamp_s, const cv::Mat& bgr, const cv::Mat& depth_m,
                        std::optional<Rigid3d> predicted_velocity, bool tracker_initialized, bool want_overlay);
   void Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> features,
              std::vector<cv::Point2f> moving_points = {}, cv::Mat depth_m = cv::Mat());
   void MapperLoop();
+  // Throws std::logic_error after Finish(), and the mapper thread's error once it failed.
+  void CheckCanProcess() const;
 
   SystemOptions options_;
   OrbExtractor extractor_;
@@ -214,6 +222,7 @@ class System {
   BlockingQueue<KeyframeId> queue_;
   std::atomic<bool> mapper_busy_{false};
   std::thread mapper_thread_;
+  BackgroundError mapper_error_;  // The mapper thread's first exception (it then stops).
   mutable std::mutex stats_mutex_;
   std::vector<MapperStepStats> mapper_stats_;
   std::vector<LoopStepStats> loop_stats_;

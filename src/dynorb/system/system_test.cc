@@ -450,6 +450,24 @@ TEST(System, AFailedPipelinedFrontEndRethrowsItsErrorAndDropsTheFramesAnnouncedA
   }
 }
 
+// After Finish() the mapper thread is gone (parallel mode): a frame would be tracked but never
+// mapped, without a word. Both entry points refuse instead; Finish() stays idempotent.
+TEST(System, RefusesFramesAfterFinish) {
+  for (RunMode mode : {RunMode::kSequential, RunMode::kParallel}) {
+    FeatureWorld world(1);
+    const SlidingCamera camera;
+    System system(Options(world, mode), nullptr);
+    system.ProcessFrame(0.0, camera.Bgr(0), camera.Depth());
+    system.Finish();
+    EXPECT_NO_THROW(system.Finish());
+    EXPECT_THROW(system.ProcessFrame(1.0 / 30.0, camera.Bgr(1), camera.Depth()), std::logic_error);
+    EXPECT_THROW(
+        system.ProcessFeatures(1.0 / 30.0, world.Observe(FeatureWorld::WorldFromCam(1), 1)),
+        std::logic_error);
+    EXPECT_EQ(system.records().size(), 1u);
+  }
+}
+
 TEST(System, RejectsFrontEndThreadsOtherThanAutoOneOrTwo) {
   FeatureWorld world(1);
   SystemOptions options = Options(world, RunMode::kSequential);
