@@ -77,6 +77,10 @@ LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdS
       RunBundleAdjustment(sensor.camera, sensor.bf, s.keyframes, s.points, s.observations, options.bundle_adjustment);
   stats.initial_cost = r.initial_cost;
   stats.final_cost = r.final_cost;
+  if (r.failed) {  // Nothing usable to write (the outlier flags were judged on bad values too).
+    stats.discarded = true;
+    return stats;
+  }
 
   map->Write([&](MapData& data) {
     // A global BA in the background moved the whole map meanwhile: this window's result is in

@@ -20,7 +20,8 @@ struct LocalBaStats {
   int removed_observations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
-  bool discarded = false;  // the map was corrected between snapshot and commit (nothing written)
+  bool discarded = false;  // nothing written: the map was corrected between snapshot and commit,
+                           // or the solve failed (BundleAdjusterResult::failed)
 };
 
 LocalBaStats RunLocalBundleAdjustment(Map* map, KeyframeId keyframe, const RgbdSensor& sensor,

@@ -101,7 +101,9 @@ int LocalMapper::CullKeyframes(MapData* map, KeyframeId keyframe) {
   const std::vector<KeyframeId> local = map->keyframe(keyframe).ordered_covisibles;
   const KeyframeId root = map->keyframes().begin()->first;
   for (KeyframeId id : local) {
-    if (id == root || !map->HasKeyframe(id) || map->keyframe(id).keep) continue;
+    // Ids grow, and the mapper takes keyframes in order: a newer covisible keyframe is still
+    // queued (parallel mode) and is judged once it has been processed itself.
+    if (id == root || id > keyframe || !map->HasKeyframe(id) || map->keyframe(id).keep) continue;
     const Keyframe& kf = map->keyframe(id);
     const FrameFeatures& f = *kf.features;
     int close = 0, redundant = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -211,17 +212,60 @@ TEST_F(MapperTest, LocalBundleAdjustmentPullsBackPerturbedKeyframe) {
   EXPECT_LT((center - truth_center).norm(), 0.01);
 }
 
-TEST_F(MapperTest, CullsRedundantKeyframesOfStaticCamera) {
-  // Six keyframes at the same pose, all observing the same landmarks (known correspondences).
+// A solve that fails (here a landmark at NaN makes Ceres' first evaluation fail) writes nothing:
+// before session 54 its poses and points and the outlier flags judged on them were committed.
+TEST_F(MapperTest, AFailedLocalBundleAdjustmentWritesNothing) {
   Map map;
+  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+  LocalMapperOptions options;
+  options.keyframe_culling = false;
+  LocalMapper mapper(world_.sensor(), options, &map);
+  KeyframeId last = kNoKeyframe;
+  for (int k = 0; k < 60; ++k) {
+    Frame frame(k, k / 30.0, world_.Observe(FeatureWorld::WorldFromCam(k), 3000 + k));
+    const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
+    if (r.new_keyframe != kNoKeyframe) {
+      mapper.ProcessOne(r.new_keyframe);
+      last = r.new_keyframe;
+    }
+  }
+  ASSERT_NE(last, kNoKeyframe);
+  const Eigen::Vector3d shift(0.05, -0.03, 0.04);
+  const auto [before, observations] = map.Write([&](MapData& m) {
+    m.keyframe(last).cam_from_world.translation += shift;
+    LandmarkId first = kNoLandmark;
+    size_t observed = 0;
+    for (LandmarkId lm : m.keyframe(last).landmarks) {
+      if (lm == kNoLandmark) continue;
+      if (first == kNoLandmark) first = lm;
+      ++observed;
+    }
+    m.landmark(first).point_in_world.x() = std::numeric_limits<double>::quiet_NaN();
+    return std::make_pair(m.keyframe(last).cam_from_world.translation, observed);
+  });
+  const LocalBaStats stats = RunLocalBundleAdjustment(&map, last, world_.sensor(), options);
+  EXPECT_TRUE(stats.discarded);
+  EXPECT_EQ(stats.removed_observations, 0);
+  map.Read([&](const MapData& m) {
+    EXPECT_EQ(m.keyframe(last).cam_from_world.translation, before);
+    size_t observed = 0;
+    for (LandmarkId lm : m.keyframe(last).landmarks) observed += lm != kNoLandmark ? 1 : 0;
+    EXPECT_EQ(observed, observations);
+    return 0;
+  });
+}
+
+// Six keyframes at the same pose, all observing the same landmarks (known correspondences),
+// each connected as the tracker's CreateKeyframe connects it; returns their ids.
+std::vector<KeyframeId> AddStaticKeyframes(const FeatureWorld& world, Map* map) {
   const Rigid3d cam_from_world = FeatureWorld::WorldFromCam(0).Inverse();
   std::vector<KeyframeId> ids;
-  map.Write([&](MapData& data) {
+  map->Write([&](MapData& data) {
     std::map<int, LandmarkId> landmark_of_point;
     for (int k = 0; k < 6; ++k) {
       std::vector<int> point_ids;
       Keyframe kf;
-      kf.features = world_.Observe(FeatureWorld::WorldFromCam(0), 5000 + k, 0.5, &point_ids);
+      kf.features = world.Observe(FeatureWorld::WorldFromCam(0), 5000 + k, 0.5, &point_ids);
       kf.cam_from_world = cam_from_world;
       const KeyframeId id = data.AddKeyframe(kf);
       ids.push_back(id);
@@ -229,16 +273,22 @@ TEST_F(MapperTest, CullsRedundantKeyframesOfStaticCamera) {
         auto it = landmark_of_point.find(point_ids[i]);
         if (it == landmark_of_point.end()) {
           Landmark lm;
-          lm.point_in_world = world_.points()[point_ids[i]];
+          lm.point_in_world = world.points()[point_ids[i]];
           lm.first_keyframe = id;
           it = landmark_of_point.emplace(point_ids[i], data.AddLandmark(lm)).first;
         }
         data.AddObservation(it->second, id, static_cast<int>(i));
       }
+      data.UpdateConnections(id);
     }
-    for (KeyframeId id : ids) data.UpdateConnections(id);
     return 0;
   });
+  return ids;
+}
+
+TEST_F(MapperTest, CullsRedundantKeyframesOfStaticCamera) {
+  Map map;
+  const std::vector<KeyframeId> ids = AddStaticKeyframes(world_, &map);
   LocalMapperOptions options;
   options.local_bundle_adjustment = false;
   LocalMapper mapper(world_.sensor(), options, &map);
@@ -249,6 +299,24 @@ TEST_F(MapperTest, CullsRedundantKeyframesOfStaticCamera) {
   const size_t left = map.Read([](const MapData& m) { return m.NumKeyframes(); });
   EXPECT_EQ(left, ids.size() - stats.culled_keyframes);
   EXPECT_TRUE(map.Read([&](const MapData& m) { return m.HasKeyframe(ids.front()) && m.HasKeyframe(ids.back()); }));
+}
+
+// Parallel mode: the tracker has inserted keyframes 2..5 (connected to keyframe 1) while the
+// mapper processes keyframe 1. Those are not culled before the mapper has processed them (their
+// triangulation, local BA and loop detection would otherwise never run); before session 54
+// keyframes 2, 3 and 4 were erased here.
+TEST_F(MapperTest, NeverCullsKeyframesNewerThanTheOneProcessed) {
+  Map map;
+  const std::vector<KeyframeId> ids = AddStaticKeyframes(world_, &map);
+  LocalMapperOptions options;
+  options.local_bundle_adjustment = false;
+  LocalMapper mapper(world_.sensor(), options, &map);
+  EXPECT_EQ(mapper.ProcessOne(ids[1]).culled_keyframes, 0);
+  for (KeyframeId id : ids) {
+    EXPECT_TRUE(map.Read([&](const MapData& m) { return m.HasKeyframe(id); })) << id;
+  }
+  // Their turn comes: processing the last one culls the redundant ones before it.
+  EXPECT_GE(mapper.ProcessOne(ids.back()).culled_keyframes, 2);
 }
 
 }  // namespace

@@ -111,7 +111,11 @@ BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,
       result.stopped = true;
       break;
     }
-    result.converged = usable && (stage == 0 || result.converged);
+    if (!usable) {
+      result.failed = true;
+      break;
+    }
+    result.converged = stage == 0 || result.converged;
 
     for (size_t i = 0; i < observations.size(); ++i) {
       const BaObservation& obs = observations[i];

@@ -51,6 +51,8 @@ struct BundleAdjusterResult {
   double final_cost = 0.0;
   bool converged = false;  // every stage ran and left a usable solution (Ceres' judgement)
   bool stopped = false;    // BundleAdjusterOptions::stop ended it.
+  bool failed = false;     // a stage ended without a usable solution (Ceres' judgement, e.g. a
+                           // non-finite residual): the values are not to be committed
 };
 
 BundleAdjusterResult RunBundleAdjustment(const PinholeCamera& camera, double bf,

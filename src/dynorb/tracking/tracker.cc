@@ -414,7 +414,10 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
     }
     int points = 0;
     for (int i : by_depth) {
-      const bool matched = frame->landmarks[i] != kNoLandmark && !frame->outlier[i];
+      // A landmark erased since it was matched (the mapper's culling in parallel mode, a dynamic
+      // vote) leaves its keypoint free for a new one.
+      const bool matched = frame->landmarks[i] != kNoLandmark && !frame->outlier[i] &&
+                           map.HasLandmark(frame->landmarks[i]);
       if (!matched) {
         Landmark lm;
         lm.point_in_world = world_from_cam * f.PointInCam(i, sensor_.camera);
