@@ -83,11 +83,15 @@ namespace {
 template <typename Result>
 std::thread StartWorker(std::unique_ptr<BlockingQueue<std::packaged_task<Result()>>>* jobs) {
   // Capacity: never the bound (at most the frames ahead are queued), only a safety net.
-  *jobs = std::make_unique<BlockingQueue<std::packaged_task<Result()>>>(1024);
-  return std::thread([queue = jobs->get()] {
+  auto queue = std::make_unique<BlockingQueue<std::packaged_task<Result()>>>(1024);
+  std::thread worker([raw = queue.get()] {
     std::packaged_task<Result()> job;
-    while (queue->Pop(&job)) job();
+    while (raw->Pop(&job)) job();
   });
+  // Only once the thread runs (std::thread may throw): a queue without a reader would make the
+  // next frame wait for ever.
+  *jobs = std::move(queue);
+  return worker;
 }
 
 }  // namespace
@@ -154,9 +158,8 @@ std::vector<LoopStepStats> System::loop_stats() const {
 void System::MapperLoop() {
   KeyframeId kf;
   while (queue_.Pop(&kf)) {
-    mapper_busy_ = true;
     const bool ok = mapper_error_.Capture([&] { MapKeyframe(kf); });
-    mapper_busy_ = false;
+    --mapper_pending_;
     if (!ok) {
       queue_.Close();  // The tracker's pushes fail instead of blocking on a full queue.
       return;
@@ -350,8 +353,7 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
                    std::vector<cv::Point2f> moving_points, cv::Mat depth_m) {
   ++next_frame_id_;
   Stopwatch watch;
-  const bool mapper_idle =
-      options_.run_mode == RunMode::kSequential || (queue_.size() == 0 && !mapper_busy_);
+  const bool mapper_idle = options_.run_mode == RunMode::kSequential || mapper_pending_ == 0;
   record->num_used = features->size();
   for (int i = 0; i < features->size(); ++i)
     record->num_with_depth += features->HasDepth(i) ? 1 : 0;
@@ -387,10 +389,17 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
     const FrameRecord* previous = records_.empty() ? nullptr : &records_.back();
     last_velocity_.reset();
     if (previous != nullptr && previous->pose_valid && previous->id + 1 == record->id) {
-      const Rigid3d previous_pose = map_.Read([&](const MapData& map) {
-        return previous->cam_from_reference * map.ResolveKeyframePose(previous->reference_keyframe);
+      // Both poses in one map state: a loop correction on the mapper thread (parallel mode) may
+      // have landed since the tracker expressed this frame's pose.
+      last_velocity_ = map_.Read([&](const MapData& map) {
+        const Rigid3d previous_pose =
+            previous->cam_from_reference * map.ResolveKeyframePose(previous->reference_keyframe);
+        const Rigid3d pose =
+            map.correction_epoch() == result.correction_epoch
+                ? result.cam_from_world
+                : result.cam_from_reference * map.ResolveKeyframePose(result.reference_keyframe);
+        return pose * previous_pose.Inverse();
       });
-      last_velocity_ = result.cam_from_world * previous_pose.Inverse();
     }
   } else {
     last_velocity_.reset();
@@ -402,7 +411,8 @@ void System::Track(FrameRecord* record, std::shared_ptr<const FrameFeatures> fea
       MapKeyframe(result.new_keyframe);
       record->timing.mapping_ms = watch.ElapsedMs();
     } else {
-      queue_.Push(result.new_keyframe);
+      ++mapper_pending_;  // Before the push: the mapper may take it at once.
+      if (!queue_.Push(result.new_keyframe)) --mapper_pending_;
     }
   }
 }

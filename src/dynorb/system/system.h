@@ -220,7 +220,10 @@ class System {
   std::optional<Rigid3d> last_velocity_;  // For the filter's motion prediction.
 
   BlockingQueue<KeyframeId> queue_;
-  std::atomic<bool> mapper_busy_{false};
+  // Keyframes pushed to the mapper and not yet mapped (queued or in progress): the tracker's
+  // "mapper idle" is this being 0 (a flag set after Pop left a moment where a busy mapper looked
+  // idle).
+  std::atomic<int> mapper_pending_{0};
   std::thread mapper_thread_;
   BackgroundError mapper_error_;  // The mapper thread's first exception (it then stops).
   mutable std::mutex stats_mutex_;

@@ -131,6 +131,7 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
     result.reference_keyframe = reference_keyframe_;
     last_reference_keyframe_ = reference_keyframe_;
     last_from_reference_ = map_->Read([&](const MapData& map) {
+      result.correction_epoch = map.correction_epoch();
       if (reference_keyframe_ == kNoKeyframe) return Rigid3d();
       return frame.cam_from_world * map.ResolveKeyframePose(reference_keyframe_).Inverse();
     });

@@ -34,6 +34,7 @@ struct TrackingResult {
   Rigid3d cam_from_world;
   KeyframeId reference_keyframe = kNoKeyframe;
   Rigid3d cam_from_reference;  // When pose_valid: the pose relative to reference_keyframe.
+  uint64_t correction_epoch = 0;  // The map's correction epoch cam_from_world is expressed in.
   KeyframeId new_keyframe = kNoKeyframe;  // Set when this frame became a keyframe.
   int num_inliers = 0;
   bool relocalized = false;
