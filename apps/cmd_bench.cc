@@ -27,14 +27,78 @@ struct BenchCli {
 };
 
 // --published, else <suite folder>/../published_results.json, else bench/published_results.json.
+// The published numbers' shape: {"systems": [{"system": "...", "ate_rmse_m": {"seq": number, ...},
+// "source"/"note": strings, "verified": bool}, ...]} (bench/published_results.json).
+nlohmann::json CheckPublished(nlohmann::json published, const std::string& path) {
+  auto fail = [&](const std::string& what) {
+    throw InputError(path + ": " + what + " (see bench/published_results.json for the format)");
+  };
+  if (!published.is_object() || !published.contains("systems") || !published["systems"].is_array())
+    fail("expected an object with an array 'systems'");
+  for (const nlohmann::json& sys : published["systems"]) {
+    if (!sys.is_object()) fail("every entry of 'systems' must be an object");
+    for (const char* key : {"system", "source", "note"}) {
+      if (sys.contains(key) && !sys[key].is_string())
+        fail(std::string("'") + key + "' must be a string");
+    }
+    if (sys.contains("verified") && !sys["verified"].is_boolean())
+      fail("'verified' must be true or false");
+    if (!sys.contains("ate_rmse_m") || !sys["ate_rmse_m"].is_object())
+      fail("every system needs an object 'ate_rmse_m'");
+    for (const auto& [sequence, value] : sys["ate_rmse_m"].items()) {
+      if (!value.is_number()) fail("'ate_rmse_m' of '" + sequence + "' must be a number");
+    }
+  }
+  return published;
+}
+
+// What the report reads without looking: {"suite": {"sequences": [{"name"}], "modes": [{"label"}],
+// "seeds": [...]}, "runs": [{"sequence", "mode", "seed", "stats": {}}]}. (Const operator[] on a
+// missing key is undefined behaviour in nlohmann::json, so a hand-edited results.json is checked.)
+void CheckResultsShape(const nlohmann::json& results, const std::string& path) {
+  auto fail = [&](const std::string& what) {
+    throw InputError(path + ": " + what + "; results.json is written by `dynorb bench`");
+  };
+  auto require = [&](const nlohmann::json& object, const char* key, auto is_kind,
+                     const char* kind) {
+    if (!object.is_object() || !object.contains(key) || !is_kind(object[key]))
+      fail(std::string("expected '") + key + "' (" + kind + ")");
+  };
+  const auto is_object = [](const nlohmann::json& j) { return j.is_object(); };
+  const auto is_array = [](const nlohmann::json& j) { return j.is_array(); };
+  const auto is_string = [](const nlohmann::json& j) { return j.is_string(); };
+  const auto is_unsigned = [](const nlohmann::json& j) { return j.is_number_unsigned(); };
+  if (!results.is_object() || !results.contains("format") ||
+      results["format"] != "dynorb-bench-results/1")
+    throw InputError(path +
+                     ": not a dynorb bench results.json (format dynorb-bench-results/1 expected)");
+  require(results, "suite", is_object, "an object");
+  require(results, "runs", is_array, "an array");
+  const nlohmann::json& suite = results["suite"];
+  require(suite, "sequences", is_array, "an array");
+  require(suite, "modes", is_array, "an array");
+  require(suite, "seeds", is_array, "an array");
+  for (const nlohmann::json& s : suite["sequences"]) require(s, "name", is_string, "a string");
+  for (const nlohmann::json& m : suite["modes"]) require(m, "label", is_string, "a string");
+  for (const nlohmann::json& run : results["runs"]) {
+    require(run, "sequence", is_string, "a string");
+    require(run, "mode", is_string, "a string");
+    require(run, "seed", is_unsigned, "a non-negative integer");
+    if (run.value("status", "") == "ok") require(run, "stats", is_object, "an object");
+  }
+}
+
 nlohmann::json LoadPublished(const std::string& explicit_path, const std::string& suite_file) {
-  if (!explicit_path.empty()) return ReadBenchJson(explicit_path);
+  if (!explicit_path.empty()) return CheckPublished(ReadBenchJson(explicit_path), explicit_path);
   std::vector<fs::path> candidates;
   if (!suite_file.empty())
     candidates.push_back(fs::path(suite_file).parent_path() / ".." / "published_results.json");
   candidates.push_back(fs::path("bench") / "published_results.json");
   for (const fs::path& candidate : candidates) {
-    if (fs::is_regular_file(candidate)) return ReadBenchJson(candidate.lexically_normal().string());
+    if (fs::is_regular_file(candidate)) {
+      const std::string path = candidate.lexically_normal().string();
+      return CheckPublished(ReadBenchJson(path), path);
+    }
   }
   return nullptr;
 }
@@ -46,9 +110,8 @@ void RunBenchCommand(BenchCli cli) {
     // Valid JSON of the wrong shape (an edited or damaged file) is named, not left to
     // nlohmann's message alone.
     try {
-      const std::string suite_file = results.contains("suite") && results["suite"].is_object()
-                                         ? results["suite"].value("file", "")
-                                         : "";
+      CheckResultsShape(results, results_path);
+      const std::string suite_file = results["suite"].value("file", "");
       WriteBenchReport(results, LoadPublished(cli.published, suite_file), cli.report_dir);
     } catch (const nlohmann::json::exception& e) {
       throw InputError(results_path + " (or the published numbers' file): unexpected content (" +
@@ -73,7 +136,14 @@ void RunBenchCommand(BenchCli cli) {
     return;
   }
   const nlohmann::json results = RunBench(cli.options, plan);
-  WriteBenchReport(results, published, cli.options.out);
+  try {
+    WriteBenchReport(results, published, cli.options.out);
+  } catch (const nlohmann::json::exception& e) {  // e.g. a resumed run's stats.json edited by hand
+    throw InputError(cli.options.out +
+                     "/results.json (from the runs' stats.json): unexpected "
+                     "content (" +
+                     std::string(e.what()) + "); delete the run's stats.json to run it again");
+  }
   const nlohmann::json& summary = results["summary"];
   std::cout << "runs: " << summary["runs"] << " (" << summary["resumed"] << " resumed, "
             << summary["failed"] << " failed)\nwrote " << cli.options.out

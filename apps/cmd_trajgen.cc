@@ -11,6 +11,7 @@
 #include "command_registry.h"
 #include "dynorb/core/error.h"
 #include "dynorb/eval/trajectory_generator.h"
+#include "dynorb/io/atomic_file.h"
 #include "dynorb/io/trajectory_io.h"
 
 namespace dynorb {
@@ -31,6 +32,7 @@ void RunTrajgen(const TrajgenCliOptions& cli) {
   const TrajectoryPair pair = GenerateTrajectoryPair(cli.pair);
   const std::string gt_path = (fs::path(cli.out_dir) / "groundtruth.txt").string();
   const std::string est_path = (fs::path(cli.out_dir) / "estimate.txt").string();
+  CheckOutputTargets({gt_path, est_path});  // neither is written when the other cannot be
   WriteTumTrajectory(gt_path, pair.groundtruth);
   WriteTumTrajectory(est_path, pair.estimate);
   std::cout << "wrote " << gt_path << " (" << pair.groundtruth.size() << " poses)\n"

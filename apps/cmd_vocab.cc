@@ -107,7 +107,9 @@ const bool kRegistered = RegisterCommand("vocab", 90, [](CLI::App& app) {
   cmd->add_option("--levels", v.levels, "depth of the words (1..8)")->capture_default_str();
   cmd->add_option("--iterations", v.kmeans_iterations, "k-means iterations per node")
       ->capture_default_str();
-  cmd->add_option("--seed", v.seed, "random seed of the k-means++ seeding")->capture_default_str();
+  cmd->add_option("--seed", v.seed, "random seed of the k-means++ seeding")
+      ->check(NonNegativeInteger())
+      ->capture_default_str();
   cmd->add_option(
          "--max-cluster-descriptors", v.max_cluster_descriptors,
          "cluster at most this many descriptors (an even subsample; idf still counts every image)")

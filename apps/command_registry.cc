@@ -1,6 +1,8 @@
 #include "command_registry.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -35,6 +37,9 @@ CLI::Validator NonNegativeInteger() {
       [](std::string& text) -> std::string {
         if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
           return "expects a non-negative integer, got '" + text + "'";
+        errno = 0;
+        std::strtoull(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) return "expects an integer below 2^64, got '" + text + "'";
         return {};
       },
       "UINT", "non-negative integer");

@@ -68,7 +68,14 @@ std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
 }  // namespace
 
 nlohmann::json RunPipeline(const RunRequest& cli) {
-  if (!fs::is_directory(cli.dataset)) throw InputError("dataset folder not found: " + cli.dataset);
+  std::error_code dataset_error;
+  if (!fs::is_directory(cli.dataset, dataset_error)) {
+    // Only a reason other than absence is worth naming (e.g. permission denied).
+    const bool other = dataset_error && dataset_error != std::errc::no_such_file_or_directory;
+    throw InputError("dataset folder not found" +
+                     (other ? " (" + dataset_error.message() + ")" : std::string()) + ": " +
+                     cli.dataset);
+  }
   if (cli.overlay_every < 1) throw InputError("overlay_every must be >= 1");
   if (cli.pipeline_depth < 1 || cli.pipeline_depth > kMaxPipelineDepth) {
     throw InputError("pipeline depth must be 1.." + std::to_string(kMaxPipelineDepth) + ", got " +
@@ -119,6 +126,13 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   std::error_code ec;
   fs::create_directories(cli.out, ec);
   if (!fs::is_directory(cli.out)) throw InputError("cannot create output folder " + cli.out);
+  {
+    std::vector<std::string> targets;
+    for (const char* name : {"trajectory.txt", "keyframes.txt", "effective_config.yaml",
+                             "frames.csv", "map.ply", "stats.json"})
+      targets.push_back((fs::path(cli.out) / name).string());
+    CheckOutputTargets(targets);  // before the run: a failure at the end would leave some written
+  }
 
   if (!cli.overlays.empty()) {
     fs::create_directories(cli.overlays, ec);
@@ -273,7 +287,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
       char name[32];
       std::snprintf(name, sizeof(name), "%06zu.png", i);
-      cv::imwrite((fs::path(cli.overlays) / name).string(), DrawKeypointOverlay(base, record.detected, record.keep));
+      const std::string overlay_path = (fs::path(cli.overlays) / name).string();
+      if (!cv::imwrite(overlay_path, DrawKeypointOverlay(base, record.detected, record.keep)))
+        throw InputError("cannot write overlay " + overlay_path);
     }
     if (!cli.quiet) {
       const int done = static_cast<int>(i - first + 1);

@@ -164,7 +164,7 @@ err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
 # Valid JSON of the wrong shape: the file is named (nlohmann's message alone did not).
 echo '{"format": "dynorb-bench-results/1", "suite": {}, "runs": "none"}' >"$DIR/stored/results.json"
 err=$("$DYNORB" bench --report "$DIR/stored" 2>&1 >/dev/null)
-[[ $? == 2 ]] && grep -qF "stored/results.json (or the published numbers' file): unexpected content" <<<"$err" ||
+[[ $? == 2 ]] && grep -qF "stored/results.json: expected 'runs' (an array)" <<<"$err" ||
   fail "results.json of the wrong shape: $err"
 
 # --- 3. a real (tiny) suite, resume -------------------------------------------------------------

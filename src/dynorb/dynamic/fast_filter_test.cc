@@ -220,6 +220,11 @@ TEST_F(FastFilterSequence, LoneSeedAndSuspectRulesOnlyKeepFlaggedKeypointsOutsid
   options = FastOptions();
   options.lone_suspect_max_age = 31;
   EXPECT_THROW(options.Validate(), InputError);
+  options = FastOptions();
+  options.lk_window_px = 2147483647;  // an LK window of 2^31 px: std::bad_array_new_length before
+  EXPECT_THROW(options.Validate(), InputError);
+  options.lk_window_px = 101;
+  EXPECT_NO_THROW(options.Validate());
 }
 
 TEST_F(FastFilterSequence, MaskCoversDetectionsOnlyWhenRegionsRemovedEnough) {

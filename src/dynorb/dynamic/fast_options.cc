@@ -12,7 +12,8 @@ void Require(bool ok, const std::string& what) {
 void FastOptions::Validate() const {
   Require(correspondences == "flow" || correspondences == "descriptors",
           "correspondences must be 'flow' or 'descriptors', got '" + correspondences + "'");
-  Require(lk_window_px >= 5 && lk_window_px % 2 == 1, "lk_window_px must be odd and >= 5");
+  Require(lk_window_px >= 5 && lk_window_px <= 101 && lk_window_px % 2 == 1,
+          "lk_window_px must be odd and 5..101");
   Require(lk_levels >= 0 && lk_levels <= 6, "lk_levels must be in [0, 6]");
   Require(lk_iterations >= 1, "lk_iterations must be >= 1");
   Require(lk_fb_max_px > 0.0, "lk_fb_max_px must be > 0");

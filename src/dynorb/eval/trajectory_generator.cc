@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "dynorb/core/angles.h"
@@ -100,6 +101,22 @@ void TrajectoryPairOptions::Validate() const {
   non_negative(stamp_jitter_s, "stamp jitter");
   if (!(drop_fraction >= 0.0 && drop_fraction < 1.0))
     throw InputError("drop fraction must be in [0, 1)");
+  // Bounds that keep the files readable (the TUM reader takes positions up to 1e9 m) and the
+  // estimate long enough to evaluate.
+  auto at_most = [](double v, double limit, const char* name) {
+    if (v > limit) {
+      std::ostringstream text;
+      text << name << " must be <= " << limit << ", got " << v;
+      throw InputError(text.str());
+    }
+  };
+  at_most(scale, 1e3, "--scale");
+  at_most(noise_m, 1e3, "--noise-m");
+  at_most(drift_m_per_s, 1e3, "--drift-m-per-s");
+  if (duration_s * rate_hz * (1.0 - drop_fraction) < 2.0)
+    throw InputError(
+        "the estimate would keep fewer than 2 poses (--duration-s x --rate-hz x (1 - "
+        "--drop-fraction))");
   if (duration_s * rate_hz > 5e7)
     throw InputError("--duration-s x --rate-hz is too large (> 5e7 poses)");
 }

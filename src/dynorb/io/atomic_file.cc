@@ -9,8 +9,19 @@
 
 namespace dynorb {
 
+void CheckOutputTargets(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  for (const std::string& path : paths) {
+    std::error_code ec;
+    const fs::file_status status = fs::symlink_status(path, ec);
+    if (!fs::exists(status) || fs::is_regular_file(status) || fs::is_symlink(status)) continue;
+    throw InputError("cannot write " + path + ": it exists and is not a file");
+  }
+}
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   namespace fs = std::filesystem;
+  CheckOutputTargets({path_});
   const fs::path target(path_);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;

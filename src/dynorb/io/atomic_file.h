@@ -6,6 +6,7 @@
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace dynorb {
 
@@ -28,6 +29,10 @@ class AtomicFile {
   std::ofstream out_;
   bool committed_ = false;
 };
+
+// Throws InputError naming the first of `paths` that exists and is not a file (a directory,
+// say), so that a command can refuse before it writes any of its outputs.
+void CheckOutputTargets(const std::vector<std::string>& paths);
 
 // Writes `content` to `path` atomically.
 void WriteFileAtomically(const std::string& path, const std::string& content);

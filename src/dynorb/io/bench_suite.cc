@@ -73,6 +73,8 @@ class Parser {
 
   void CheckName(const YAML::Node& node, const std::string& name) const {
     if (name.empty()) Fail(node, "empty name");
+    // A name is a folder of --out: '.', '..' or a hidden name would write elsewhere or hide it.
+    if (name.front() == '.') Fail(node, "name '" + name + "' may not start with '.'");
     for (char c : name) {
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') {
         Fail(node, "name '" + name + "' may only contain letters, digits, '_', '-' and '.'");

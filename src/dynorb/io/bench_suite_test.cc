@@ -156,6 +156,15 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
       HasSubstr("'view_loss' expects"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: 'a b', path: x}\n" + modes),
               HasSubstr("may only contain"));
+  // A name is a folder under --out: '..' wrote a run's outputs outside it (session 54).
+  for (const char* name : {".", "..", ".hidden"}) {
+    EXPECT_THAT(ErrorOf(std::string("sequences:\n  - {name: '") + name + "', path: x}\n" + modes),
+                HasSubstr("may not start with '.'"))
+        << name;
+  }
+  EXPECT_THAT(
+      ErrorOf("sequences:\n  - {name: a, path: x}\nmodes:\n  - {name: plain, label: '..'}\n"),
+      HasSubstr("may not start with '.'"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: -3}}\n" + modes),
               HasSubstr("suite.yaml:2: 'frames' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: many}}\n" + modes),

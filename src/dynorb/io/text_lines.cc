@@ -35,6 +35,8 @@ void ForEachDataLine(const std::string& path,
   int line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
+    // A UTF-8 byte order mark (some editors write one) is not part of the first line's text.
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     fn(line_no, SplitFields(line));

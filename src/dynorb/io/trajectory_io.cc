@@ -67,8 +67,13 @@ std::string FormatTumPoseLine(const StampedPose& pose) {
   const Eigen::Vector3d& t = pose.world_from_cam.translation;
   const Eigen::Quaterniond& q = pose.world_from_cam.rotation;
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", pose.timestamp_s, t.x(), t.y(),
-                t.z(), q.x(), q.y(), q.z(), q.w());
+  const int length =
+      std::snprintf(buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", pose.timestamp_s,
+                    t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  // Values beyond ~1e200 would not fit: a cut line is a file no reader can take back.
+  if (length < 0 || length >= static_cast<int>(sizeof(buf)))
+    throw InputError("a pose too large to write in TUM format (|t| = " + std::to_string(t.norm()) +
+                     " m)");
   return buf;
 }
 

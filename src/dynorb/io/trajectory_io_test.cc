@@ -83,6 +83,38 @@ TEST_F(TrajectoryIoTest, DuplicateTimestampsCanKeepTheLastPose) {
                InputError);
 }
 
+// Some editors start a file with a UTF-8 byte order mark: it is not part of the first line.
+TEST_F(TrajectoryIoTest, ReadsAFileThatStartsWithAByteOrderMark) {
+  for (const char* first : {"# timestamp tx ty tz qx qy qz qw\n", ""}) {
+    const fs::path path = dir_ / "bom.txt";
+    std::ofstream(path) << "\xEF\xBB\xBF" << first << "1.0 1 2 3 0 0 0 1\n2.0 1 2 3 0 0 0 1\n";
+    const Trajectory t = ReadTumTrajectory(path.string());
+    ASSERT_EQ(t.size(), 2u) << first;
+    EXPECT_EQ(t[0].timestamp_s, 1.0);
+  }
+}
+
+// A pose too large for the line buffer (|t| ~ 1e300) used to be written cut short: a file no
+// reader takes back. Now the write fails and leaves nothing.
+TEST_F(TrajectoryIoTest, RefusesToWriteAPoseTooLargeForTheFormat) {
+  StampedPose pose;
+  pose.timestamp_s = 1.0;
+  pose.world_from_cam.translation = Eigen::Vector3d(1e300, 0.0, 0.0);
+  const fs::path path = dir_ / "huge.txt";
+  EXPECT_THROW(WriteTumTrajectory(path.string(), {pose}), InputError);
+  EXPECT_FALSE(fs::exists(path));
+}
+
+// An output path that is a directory is refused before anything is written.
+TEST_F(TrajectoryIoTest, AnOutputThatIsADirectoryIsRefusedUpFront) {
+  fs::create_directories(dir_ / "stats.json");
+  EXPECT_THROW(CheckOutputTargets({(dir_ / "a.txt").string(), (dir_ / "stats.json").string()}),
+               InputError);
+  EXPECT_NO_THROW(CheckOutputTargets({(dir_ / "a.txt").string()}));
+  EXPECT_THROW(AtomicFile((dir_ / "stats.json").string()), InputError);
+  EXPECT_FALSE(fs::exists(dir_ / "a.txt"));
+}
+
 TEST_F(TrajectoryIoTest, FailedWriteLeavesNoFile) {
   EXPECT_THROW(WriteTumTrajectory((dir_ / "no_such_dir" / "t.txt").string(), {}), InputError);
   EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));

@@ -52,7 +52,9 @@ std::vector<std::pair<std::string, cv::Mat>> LoadCutouts(const std::string& dir)
 void SynthOptions::Validate() const {
   if (!FindPreset(preset))
     throw InputError("unknown preset '" + preset + "' (known: " + PresetNames() + ")");
-  if (frames < 0) throw InputError("--frames must be >= 0");
+  if (frames < 0 || frames > kMaxFrames)
+    throw InputError("--frames must be 0.." + std::to_string(kMaxFrames) + ", got " +
+                     std::to_string(frames));
   if (num_people < 0 || num_people > 3)
     throw InputError("the number of people must be 1..3 (0 = default)");
   if (supersample < 1 || supersample > 4) throw InputError("supersample must be 1..4");

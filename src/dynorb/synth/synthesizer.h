@@ -34,6 +34,7 @@ struct SynthOptions {
   std::string preset = "walking_xyz";  // one of Presets() (camera motion, duration, people mode)
   uint64_t seed = 1;                   // drives layout details, paths, noise
   std::string out_dir;                 // output directory (Synthesize only)
+  static constexpr int kMaxFrames = 1000000;  // --frames above this is refused (memory)
   int frames = 0;            // number of frames; 0 = the preset's (or trajectory's) duration
   bool static_twin = false;  // remove every moving object
   std::string people_dir;    // RGBA *.png cut-outs of real people; empty = procedural figures

@@ -132,6 +132,23 @@ void System::Finish() {
   loop_closer_.WaitForGlobalBa();  // Rethrows a failed global BA's error.
 }
 
+void System::CheckFeatures(const FrameFeatures* features, int num_levels) {
+  // The tracker indexes one frame's scale levels with another's octaves (projection search).
+  if (features == nullptr) throw InputError("ProcessFeatures: no features");
+  if (features->levels().NumLevels() != num_levels) {
+    throw InputError("ProcessFeatures: features with " +
+                     std::to_string(features->levels().NumLevels()) +
+                     " scale levels; the system has " + std::to_string(num_levels));
+  }
+  if (features->size() > 0 && features->descriptors().rows != features->size())
+    throw InputError("ProcessFeatures: one descriptor per keypoint expected");
+  for (const cv::KeyPoint& kp : features->keypoints()) {
+    if (kp.octave < 0 || kp.octave >= num_levels)
+      throw InputError("ProcessFeatures: a keypoint's octave " + std::to_string(kp.octave) +
+                       " is outside the " + std::to_string(num_levels) + " levels");
+  }
+}
+
 void System::CheckCanProcess() const {
   if (finished_) throw std::logic_error("System: a frame after Finish()");
   mapper_error_.Rethrow();  // The mapper thread failed: the map can no longer be kept.
@@ -338,6 +355,7 @@ const FrameRecord& System::ProcessFeatures(double timestamp_s,
                                            std::shared_ptr<const FrameFeatures> features) {
   CheckCanProcess();
   if (!pending_.empty()) throw std::logic_error("ProcessFeatures after a pipelined ProcessFrame");
+  CheckFeatures(features.get(), extractor_.levels().NumLevels());
   Stopwatch total;
   FrameRecord record;
   record.id = next_frame_id_;

@@ -205,6 +205,9 @@ class System {
   void MapperLoop();
   // Throws std::logic_error after Finish(), and the mapper thread's error once it failed.
   void CheckCanProcess() const;
+  // Throws InputError for features the tracker cannot use: other scale levels than the system's,
+  // descriptors not one per keypoint, an octave outside the levels.
+  static void CheckFeatures(const FrameFeatures* features, int num_levels);
 
   SystemOptions options_;
   OrbExtractor extractor_;

@@ -468,6 +468,28 @@ TEST(System, RefusesFramesAfterFinish) {
   }
 }
 
+// Features from outside (tests, external front ends) that the tracker cannot index: refused with
+// a message instead of a crash in the projection search (a default FrameFeatures has no levels).
+TEST(System, RefusesFeaturesItsTrackerCannotUse) {
+  FeatureWorld world(1);
+  System system(Options(world, RunMode::kSequential), nullptr);
+  for (int k = 0; k < 3; ++k)
+    system.ProcessFeatures(k / 30.0, world.Observe(FeatureWorld::WorldFromCam(k), 100 + k));
+  EXPECT_THROW(system.ProcessFeatures(0.1, std::make_shared<const FrameFeatures>()), InputError);
+  OrbFeatures orb;
+  orb.keypoints = {cv::KeyPoint(10.f, 10.f, 7.f, -1.f, 0.f, 9)};  // octave 9 of 8 levels
+  orb.descriptors = cv::Mat::zeros(1, 32, CV_8U);
+  EXPECT_THROW(system.ProcessFeatures(
+                   0.1, std::make_shared<const FrameFeatures>(orb, std::vector<float>{1.f},
+                                                              world.sensor(), ScaleLevels(8, 1.2))),
+               InputError);
+  EXPECT_EQ(system.records().size(), 3u);
+  // Good features still go through.
+  EXPECT_EQ(
+      system.ProcessFeatures(3 / 30.0, world.Observe(FeatureWorld::WorldFromCam(3), 103)).state,
+      TrackingState::kOk);
+}
+
 TEST(System, RejectsFrontEndThreadsOtherThanAutoOneOrTwo) {
   FeatureWorld world(1);
   SystemOptions options = Options(world, RunMode::kSequential);

@@ -15,6 +15,22 @@ namespace {
 
 constexpr int kMinMatches = 15;
 constexpr int kMinInliers = 50;
+// An RGB-D camera sees its map within metres: a pose that puts the median inlier landmark
+// farther than this (or behind the camera) is a degenerate PnP solution, not a place.
+constexpr double kMaxMedianDepthM = 100.0;
+
+// Whether the frame's pose puts its matched landmarks where a depth camera could have seen them.
+bool PlausibleDepths(const Frame& frame) {
+  std::vector<double> depths;
+  for (size_t i = 0; i < frame.landmarks.size(); ++i) {
+    if (frame.landmarks[i] == kNoLandmark) continue;
+    depths.push_back((frame.cam_from_world * frame.landmark_points[i]).z());
+  }
+  if (depths.empty()) return false;
+  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
+  std::nth_element(depths.begin(), middle, depths.end());
+  return *middle > 0.0 && *middle <= kMaxMedianDepthM;
+}
 
 int Optimize(const RgbdSensor& sensor, const PoseOptimizerOptions& options, Frame* frame) {
   std::vector<PoseObservation> observations;
@@ -105,6 +121,8 @@ bool Relocalizer::LocalizeAgainst(const MapData& map, KeyframeId candidate, Fram
     good = Optimize(sensor_, options_.pose, frame);
   }
   if (good < kMinInliers) return false;
+  // Keypoints heaped on a few pixels without depth fit a camera 1e12 m away (review, session 54).
+  if (!PlausibleDepths(*frame)) return false;
   frame->reference_keyframe = candidate;
   return true;
 }

@@ -128,6 +128,45 @@ TEST_F(TrackerTest, RelocalizesAfterLosingTrack) {
   for (int k = 26; k < 35; ++k) EXPECT_TRUE(Feed(tracker, k, id++).pose_valid) << k;
 }
 
+// A lost tracker sees a frame whose keypoints (with the descriptors of a real view) all sit on
+// pixel (0, 0), without depth: PnP fits it with a camera ~1e13 m away. Before session 54 that
+// was taken as a relocalisation and the next keyframes were made there.
+TEST_F(TrackerTest, NeverRelocalizesAtADegeneratePose) {
+  Map map;
+  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
+  FrameId id = 0;
+  for (int k = 0; k < 10; ++k) ASSERT_TRUE(Feed(tracker, k, id++).pose_valid);
+  OrbFeatures empty;
+  empty.descriptors = cv::Mat(0, 32, CV_8U);
+  Frame blank(id++, 0.5,
+              std::make_shared<const FrameFeatures>(empty, std::vector<float>{}, world_.sensor(),
+                                                    ScaleLevels(8, 1.2)));
+  ASSERT_EQ(tracker.ProcessOne(std::move(blank), true).state, TrackingState::kLost);
+  const std::shared_ptr<const FrameFeatures> real =
+      world_.Observe(testing::FeatureWorld::WorldFromCam(5), 4242);
+  OrbFeatures heaped;
+  heaped.descriptors = real->descriptors().clone();
+  for (int i = 0; i < real->size(); ++i) {
+    cv::KeyPoint kp = real->keypoint(i);
+    kp.pt = {0.f, 0.f};
+    heaped.keypoints.push_back(kp);
+  }
+  const std::vector<float> no_depth(heaped.keypoints.size(), 0.f);
+  for (int k = 0; k < 5; ++k) {
+    Frame frame(id++, 0.6 + k / 30.0,
+                std::make_shared<const FrameFeatures>(heaped, no_depth, world_.sensor(),
+                                                      ScaleLevels(8, 1.2)));
+    const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
+    EXPECT_FALSE(r.relocalized) << k;
+    EXPECT_FALSE(r.pose_valid) << k;
+  }
+  map.Read([](const MapData& m) {
+    for (const auto& [kf_id, kf] : m.keyframes())
+      EXPECT_LT(kf.CameraCenterInWorld().norm(), 100.0) << kf_id;
+    return 0;
+  });
+}
+
 // Place recognition: the camera turns from the front wall to the back wall, is lost, and comes
 // back facing the front wall, a place none of the recent keyframes shows. With
 // relocalization_candidates 2 (as if the map were large) only the keyframes the vocabulary finds
