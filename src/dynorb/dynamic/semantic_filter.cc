@@ -280,10 +280,10 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     // carried by flow from frame k to the current one.
     ++frames_since_detection_;
     current_ = Carry(current_, previous_small_, small, input.gray->size(), depth);
-    // Ids that do not increase (a caller going on after the System dropped frames whose front
-    // ends had run): the detection in flight belongs to a frame that is not coming; it is waited
-    // for and dropped.
-    if (pending_.valid() && seen_frame_ && input.frame_id <= last_frame_id_) DropPending();
+    // Ids that come again (a caller going on after the System dropped frames whose front ends
+    // had run): a detection started at this id or later belongs to a frame that was dropped; it
+    // is waited for and discarded. One started at an earlier, tracked frame stays due.
+    if (pending_.valid() && input.frame_id <= pending_frame_) DropPending();
     if (pending_.valid() && input.frame_id >= pending_frame_ + static_cast<FrameId>(options_.detector_latency)) {
       Stopwatch wait;
       DynamicObjects detected = pending_.get();
@@ -314,8 +314,6 @@ FilterOutput SemanticFilter::Filter(const FilterInput& input) {
     }
   }
   previous_small_ = std::move(small);
-  last_frame_id_ = input.frame_id;
-  seen_frame_ = true;
 
   FilterOutput out;
   const std::vector<cv::KeyPoint>& keypoints = input.keypoints->keypoints;

@@ -130,9 +130,7 @@ class SemanticFilter : public KeypointFilter {
   FrameId pending_frame_ = 0;
   cv::Mat pending_small_;
   std::vector<DynamicObject> pending_carried_;  // The objects carried to the pending frame.
-  double pending_provider_ms_ = 0.0;  // Written by the worker before its result is ready.
-  FrameId last_frame_id_ = 0;         // The id of the last frame filtered (seen_frame_: any yet).
-  bool seen_frame_ = false;
+  double pending_provider_ms_ = 0.0;            // Written by the worker before its result is ready.
 };
 
 }  // namespace dynorb

@@ -3,10 +3,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -530,26 +532,31 @@ TEST(SemanticFilter, PipelinedDetectionIsUsedLatencyFramesLaterAndCarried) {
       InputError);
 }
 
-// A slow provider that records how many of its calls ran at the same time.
-class SlowProvider : public MaskProvider {
+// A provider whose calls wait (up to 0.3 s) for a second call to start: two calls that can overlap
+// always do, whatever the machine's load, and the most that ran at once is recorded.
+class OverlapProvider : public MaskProvider {
  public:
-  explicit SlowProvider(std::shared_ptr<std::atomic<int>> max_in_flight)
+  explicit OverlapProvider(std::shared_ptr<std::atomic<int>> max_in_flight)
       : max_in_flight_(std::move(max_in_flight)) {}
-  std::string name() const override { return "slow"; }
+  std::string name() const override { return "overlap"; }
   DynamicObjects Masks(const MaskQuery& query) override {
-    const int now = ++in_flight_;
-    int seen = max_in_flight_->load();
-    while (now > seen && !max_in_flight_->compare_exchange_weak(seen, now)) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      const int now = ++in_flight_;
+      if (now > max_in_flight_->load()) max_in_flight_->store(now);
+      changed_.notify_all();
+      changed_.wait_for(lock, std::chrono::milliseconds(300), [this] { return in_flight_ >= 2; });
+      --in_flight_;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
     DynamicObjects out;
     out.mask = cv::Mat::zeros(query.bgr->size(), CV_8U);
-    --in_flight_;
     return out;
   }
 
  private:
-  std::atomic<int> in_flight_{0};
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int in_flight_ = 0;
   std::shared_ptr<std::atomic<int>> max_in_flight_;
 };
 
@@ -562,7 +569,7 @@ TEST(SemanticFilter, RepeatedFrameIdsNeverRunTwoDetectionsAtOnce) {
   SemanticOptions options;
   options.detect_every = 4;
   options.detector_latency = 2;
-  SemanticFilter filter(std::make_unique<SlowProvider>(max_in_flight), options);
+  SemanticFilter filter(std::make_unique<OverlapProvider>(max_in_flight), options);
   for (int frame : {0, 1, 2, 3, 4, 5, 4, 5, 6, 7, 8}) FilterSquareFrame(&filter, frame);
   EXPECT_EQ(max_in_flight->load(), 1);
 }

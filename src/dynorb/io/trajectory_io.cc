@@ -72,7 +72,8 @@ std::string FormatTumPoseLine(const StampedPose& pose) {
                     t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   // Values beyond ~1e200 would not fit: a cut line is a file no reader can take back.
   if (length < 0 || length >= static_cast<int>(sizeof(buf)))
-    throw InputError("a pose too large to write in TUM format (|t| = " + std::to_string(t.norm()) +
+    throw InputError("a pose too large to write in TUM format (timestamp " +
+                     std::to_string(pose.timestamp_s) + " s, |t| = " + std::to_string(t.norm()) +
                      " m)");
   return buf;
 }

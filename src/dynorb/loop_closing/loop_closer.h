@@ -88,6 +88,8 @@ class LoopCloser {
   void WaitForGlobalBa();
   // The same without the rethrow.
   void JoinGlobalBa();
+  // Rethrows the exception a background global BA ended with, if one did (without waiting).
+  void RethrowGlobalBaError() const { global_ba_error_.Rethrow(); }
   std::vector<GlobalBaStats> global_ba_stats() const;
 
  private:

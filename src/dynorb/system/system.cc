@@ -152,6 +152,7 @@ void System::CheckFeatures(const FrameFeatures* features, int num_levels) {
 void System::CheckCanProcess() const {
   if (finished_) throw std::logic_error("System: a frame after Finish()");
   mapper_error_.Rethrow();  // The mapper thread failed: the map can no longer be kept.
+  loop_closer_.RethrowGlobalBaError();  // So did a global BA on its own thread.
 }
 
 MapperStepStats System::MapKeyframe(KeyframeId keyframe) {

@@ -122,7 +122,8 @@ TrackingResult Tracker::ProcessOne(Frame frame, bool mapper_idle) {
       if (frame.landmarks[i] != kNoLandmark && !frame.outlier[i]) result.inlier_keypoints.push_back(static_cast<int>(i));
     }
     if (NeedNewKeyframe(frame, mapper_idle)) {
-      result.new_keyframe = CreateKeyframe(&frame, false, &result.new_landmark_keypoints);
+      result.new_keyframe =
+          CreateKeyframe(&frame, false, &result.new_landmark_keypoints, &result.erased_as_dynamic);
     }
     // Outliers do not carry over to the next frame's motion-model search.
     for (size_t i = 0; i < frame.landmarks.size(); ++i) {
@@ -384,7 +385,13 @@ bool Tracker::NeedNewKeyframe(const Frame& frame, bool mapper_idle) const {
   return (c1a || c1b || c1c) && c2;
 }
 
-KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created) {
+KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created,
+                                   const std::vector<ErasedLandmark>* erased_as_dynamic) {
+  std::vector<LandmarkId> judged_moving;  // Erased by this frame's dynamic votes: no new landmark.
+  if (erased_as_dynamic != nullptr) {
+    for (const ErasedLandmark& e : *erased_as_dynamic) judged_moving.push_back(e.seen.id);
+    std::sort(judged_moving.begin(), judged_moving.end());
+  }
   const FrameFeatures& f = *frame->features;
   // Keypoints with depth, nearest first.
   std::vector<int> by_depth;
@@ -415,10 +422,12 @@ KeyframeId Tracker::CreateKeyframe(Frame* frame, bool all_depth_points, std::vec
     }
     int points = 0;
     for (int i : by_depth) {
-      // A landmark erased since it was matched (the mapper's culling in parallel mode, a dynamic
-      // vote) leaves its keypoint free for a new one.
-      const bool matched = frame->landmarks[i] != kNoLandmark && !frame->outlier[i] &&
-                           map.HasLandmark(frame->landmarks[i]);
+      // A landmark the mapper culled since it was matched (parallel mode) leaves its keypoint
+      // free for a new one; one this frame's dynamic votes erased does not (it was judged moving).
+      const LandmarkId lm_id = frame->landmarks[i];
+      const bool matched = lm_id != kNoLandmark && !frame->outlier[i] &&
+                           (map.HasLandmark(lm_id) ||
+                            std::binary_search(judged_moving.begin(), judged_moving.end(), lm_id));
       if (!matched) {
         Landmark lm;
         lm.point_in_world = world_from_cam * f.PointInCam(i, sensor_.camera);

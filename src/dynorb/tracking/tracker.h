@@ -72,7 +72,10 @@ class Tracker {
   // Inserts the frame as a keyframe and creates landmarks from its depth: every keypoint with depth
   // (first keyframe) or the nearest ones until new_close_points beyond th_depth (ORB-SLAM2).
   // `created` (optional) receives the indices of the keypoints that became new landmarks.
-  KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points, std::vector<int>* created = nullptr);
+  // erased_as_dynamic: landmarks this frame's dynamic votes erased (their keypoints get none).
+  KeyframeId CreateKeyframe(Frame* frame, bool all_depth_points,
+                            std::vector<int>* created = nullptr,
+                            const std::vector<ErasedLandmark>* erased_as_dynamic = nullptr);
   void RefreshLandmarkPoints(Frame* frame) const;
   // Sets centre_prior_ for `frame` (or clears it) / updates the centre velocity after it was
   // tracked.
