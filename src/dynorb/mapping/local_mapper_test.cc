@@ -182,21 +182,29 @@ TEST_F(MapperTest, MappingImprovesTrackingAccuracy) {
   });
 }
 
-TEST_F(MapperTest, LocalBundleAdjustmentPullsBackPerturbedKeyframe) {
-  Map map;
-  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
-  LocalMapperOptions options;
-  options.keyframe_culling = false;
-  LocalMapper mapper(world_.sensor(), options, &map);
+// Tracks and maps `frames` frames of the smooth path (no keyframe culling); returns the last
+// keyframe (kNoKeyframe if none).
+KeyframeId TrackAndMap(const FeatureWorld& world, const LocalMapperOptions& options, int frames,
+                       Map* map) {
+  Tracker tracker(world.sensor(), TrackerOptions(), map);
+  LocalMapper mapper(world.sensor(), options, map);
   KeyframeId last = kNoKeyframe;
-  for (int k = 0; k < 120; ++k) {
-    Frame frame(k, k / 30.0, world_.Observe(FeatureWorld::WorldFromCam(k), 3000 + k));
+  for (int k = 0; k < frames; ++k) {
+    Frame frame(k, k / 30.0, world.Observe(FeatureWorld::WorldFromCam(k), 3000 + k));
     const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
     if (r.new_keyframe != kNoKeyframe) {
       mapper.ProcessOne(r.new_keyframe);
       last = r.new_keyframe;
     }
   }
+  return last;
+}
+
+TEST_F(MapperTest, LocalBundleAdjustmentPullsBackPerturbedKeyframe) {
+  Map map;
+  LocalMapperOptions options;
+  options.keyframe_culling = false;
+  const KeyframeId last = TrackAndMap(world_, options, 120, &map);
   ASSERT_NE(last, kNoKeyframe);
   const FrameId frame_id = map.Read([&](const MapData& m) { return m.keyframe(last).frame_id; });
   const Eigen::Vector3d truth_center = testing::TruthInFirstCamera(static_cast<int>(frame_id)).Inverse().translation;
@@ -216,19 +224,9 @@ TEST_F(MapperTest, LocalBundleAdjustmentPullsBackPerturbedKeyframe) {
 // before session 54 its poses and points and the outlier flags judged on them were committed.
 TEST_F(MapperTest, AFailedLocalBundleAdjustmentWritesNothing) {
   Map map;
-  Tracker tracker(world_.sensor(), TrackerOptions(), &map);
   LocalMapperOptions options;
   options.keyframe_culling = false;
-  LocalMapper mapper(world_.sensor(), options, &map);
-  KeyframeId last = kNoKeyframe;
-  for (int k = 0; k < 60; ++k) {
-    Frame frame(k, k / 30.0, world_.Observe(FeatureWorld::WorldFromCam(k), 3000 + k));
-    const TrackingResult r = tracker.ProcessOne(std::move(frame), true);
-    if (r.new_keyframe != kNoKeyframe) {
-      mapper.ProcessOne(r.new_keyframe);
-      last = r.new_keyframe;
-    }
-  }
+  const KeyframeId last = TrackAndMap(world_, options, 60, &map);
   ASSERT_NE(last, kNoKeyframe);
   const Eigen::Vector3d shift(0.05, -0.03, 0.04);
   const auto [before, observations] = map.Write([&](MapData& m) {
