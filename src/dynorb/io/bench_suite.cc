@@ -56,7 +56,8 @@ class Parser {
   }
   int PositiveInt(const YAML::Node& node, const std::string& key, int min) const {
     const long long v = Get<long long>(node, key, "an integer");
-    if (v < min || v > 1000000) Fail(node, "'" + key + "' must be >= " + std::to_string(min));
+    if (v < min) Fail(node, "'" + key + "' must be >= " + std::to_string(min));
+    if (v > 1000000) Fail(node, "'" + key + "' must be <= 1000000, got " + std::to_string(v));
     return static_cast<int>(v);
   }
   uint64_t Seed(const YAML::Node& node, const std::string& key) const {

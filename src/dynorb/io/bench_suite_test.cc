@@ -181,6 +181,9 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:3: 'pipeline' expects true or false"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npreload: 2\n"),
               HasSubstr("suite.yaml:3: 'preload' expects true or false"));
+  // Too large was reported as too small before session 54.
+  EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\nrepeats: 2000000\n"),
+              HasSubstr("suite.yaml:3: 'repeats' must be <= 1000000, got 2000000"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 0\n"),
               HasSubstr("suite.yaml:3: 'pipeline_depth' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\nmodes: [plain]\npipeline_depth: 17\n"),

@@ -26,6 +26,8 @@ void CameraConfig::Validate() const {
   RequirePositive(camera.width, "Camera.width");
   RequirePositive(camera.height, "Camera.height");
   RequirePositive(fps, "Camera.fps");
+  // It becomes an int (the keyframe spacing in frames): beyond int's range that cast is undefined.
+  if (fps > 1000.0) throw InputError("Camera.fps must be <= 1000, got " + std::to_string(fps));
   RequirePositive(bf, "Camera.bf");
   RequirePositive(th_depth, "ThDepth");
   RequirePositive(depth_map_factor, "DepthMapFactor");

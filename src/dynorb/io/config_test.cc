@@ -171,6 +171,8 @@ TEST_F(ConfigTest, InvalidInputs) {
       "max_difference_s must be > 0");
   ExpectInputError([&] { LoadSystemConfig(Write("j.yaml", base + "DepthDisparitySigma: -0.1\n")); },
                    "j.yaml: DepthDisparitySigma must be >= 0");
+  ExpectInputError([&] { LoadSystemConfig(Write("m.yaml", base + "Camera.fps: 1e300\n")); },
+                   "m.yaml: Camera.fps must be <= 1000");
   // 0 is ORB-SLAM2's form; a value is read as given.
   EXPECT_EQ(LoadSystemConfig(Write("k.yaml", base + "DepthDisparitySigma: 0\n"))
                 .camera.disparity_sigma_px,
