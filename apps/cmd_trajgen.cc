@@ -25,16 +25,14 @@ struct TrajgenCliOptions {
 void RunTrajgen(const TrajgenCliOptions& cli) {
   cli.pair.Validate();
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(cli.out_dir, ec);
-  if (!fs::is_directory(cli.out_dir))
-    throw InputError("cannot create output directory " + cli.out_dir);
+  OutputFolder out_folder(cli.out_dir, "output directory");  // Removed again if the command fails.
   const TrajectoryPair pair = GenerateTrajectoryPair(cli.pair);
   const std::string gt_path = (fs::path(cli.out_dir) / "groundtruth.txt").string();
   const std::string est_path = (fs::path(cli.out_dir) / "estimate.txt").string();
   CheckOutputTargets({gt_path, est_path});  // neither is written when the other cannot be
   WriteTumTrajectory(gt_path, pair.groundtruth);
   WriteTumTrajectory(est_path, pair.estimate);
+  out_folder.Keep();
   std::cout << "wrote " << gt_path << " (" << pair.groundtruth.size() << " poses)\n"
             << "wrote " << est_path << " (" << pair.estimate.size() << " poses, "
             << pair.groundtruth.size() - pair.estimate.size() << " dropped)\n";

@@ -123,9 +123,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   }
   TumSequence sequence(cli.dataset, config.dataset);
   const auto [first, last] = ParseRange(cli.frames, sequence.size());
-  std::error_code ec;
-  fs::create_directories(cli.out, ec);
-  if (!fs::is_directory(cli.out)) throw InputError("cannot create output folder " + cli.out);
+  OutputFolder out_folder(cli.out);  // Removed again if still empty when the run fails.
   {
     std::vector<std::string> targets;
     for (const char* name : {"trajectory.txt", "keyframes.txt", "effective_config.yaml",
@@ -134,10 +132,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     CheckOutputTargets(targets);  // before the run: a failure at the end would leave some written
   }
 
-  if (!cli.overlays.empty()) {
-    fs::create_directories(cli.overlays, ec);
-    if (!fs::is_directory(cli.overlays)) throw InputError("cannot create overlay folder " + cli.overlays);
-  }
+  std::optional<OutputFolder> overlay_folder;
+  if (!cli.overlays.empty()) overlay_folder.emplace(cli.overlays, "overlay folder");
   if (!schema.IsSet("tracking.max_frames_between_keyframes")) {  // ORB-SLAM2: one second of frames.
     tracker_options.max_frames_between_keyframes = std::max(1, static_cast<int>(config.camera.fps));
   }
@@ -422,6 +418,8 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     fs::remove(map_path, ignored);
   }
   WriteFileAtomically((fs::path(cli.out) / "stats.json").string(), stats.dump(2) + "\n");
+  out_folder.Keep();
+  if (overlay_folder) overlay_folder->Keep();
   return stats;
 }
 

@@ -22,7 +22,7 @@ expect_error "dynorb: error: --frames must be 0..1000000, got 2000000" synth --f
 [[ ! -e "$DIR/s1" ]] || fail "synth --frames 2000000 wrote $DIR/s1"
 expect_error "dynorb: error: --scale must be <= 1000, got 1e+300" trajgen --scale 1e300 --out "$DIR/t1"
 expect_error "fewer than 2 poses" trajgen --drop-fraction 0.999999 --out "$DIR/t2"
-[[ ! -e "$DIR/t1/groundtruth.txt" && ! -e "$DIR/t2/groundtruth.txt" ]] || fail "trajgen wrote a ground truth"
+[[ ! -e "$DIR/t1" && ! -e "$DIR/t2" ]] || fail "a failed trajgen left its output folder"
 expect_error "--seed: expects an integer below 2^64, got '99999999999999999999'" \
   trajgen --seed 99999999999999999999 --out "$DIR/t3"
 expect_error "--seed: expects a non-negative integer, got '-1'" vocab --seed -1 --out "$DIR/v.yml"
@@ -42,6 +42,15 @@ expect_error "cannot write $DIR/plot.png: it exists and is not a file" \
 mkdir -p "$DIR/run/stats.json"
 expect_error "cannot write $DIR/run/stats.json: it exists and is not a file" run --dataset "$DIR/seq" --out "$DIR/run" --quiet
 [[ ! -e "$DIR/run/trajectory.txt" ]] || fail "run wrote trajectory.txt although stats.json could not be written"
+
+# A run that fails before writing (models, vocabulary) leaves no output folder (session 55).
+mkdir -p "$DIR/no_models"
+expect_error "no_models" run --dataset "$DIR/seq" --mode semantic --models "$DIR/no_models" --out "$DIR/deep/r1" --quiet
+[[ ! -e "$DIR/deep" ]] || fail "a run whose models failed to load left $DIR/deep"
+printf 'place_recognition:\n  vocabulary: %s\n' "$DIR/missing_vocabulary.yml" >"$DIR/vocab_overlay.yaml"
+expect_error "missing_vocabulary.yml" run --dataset "$DIR/seq" --config-overlay "$DIR/vocab_overlay.yaml" \
+  --out "$DIR/r2" --save-overlays "$DIR/r2_overlays" --quiet
+[[ ! -e "$DIR/r2" && ! -e "$DIR/r2_overlays" ]] || fail "a run whose vocabulary failed to load left its folders"
 
 # Lists that start with a byte order mark read as without it.
 cp -r "$DIR/seq" "$DIR/bom"

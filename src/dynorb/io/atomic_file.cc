@@ -49,6 +49,38 @@ void AtomicFile::Commit() {
   committed_ = true;
 }
 
+OutputFolder::OutputFolder(const std::string& path, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  // The missing folders on the way, outermost first (stops at the first one that exists).
+  fs::path normal = fs::path(path).lexically_normal();
+  if (normal.has_parent_path() && normal.filename().empty())
+    normal = normal.parent_path();  // "out/"
+  for (fs::path p = normal; !p.empty() && !fs::exists(fs::symlink_status(p, ec));
+       p = p.parent_path()) {
+    created_.insert(created_.begin(), p.string());
+    if (p == p.parent_path()) break;
+  }
+  fs::create_directories(path, ec);
+  if (!fs::is_directory(path, ec)) {
+    RemoveCreated();  // A parent made on the way.
+    throw InputError("cannot create " + what + " " + path);
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  if (!keep_) RemoveCreated();
+}
+
+void OutputFolder::RemoveCreated() const {
+  namespace fs = std::filesystem;
+  for (auto it = created_.rbegin(); it != created_.rend(); ++it) {
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(*it, ec)) || !fs::is_empty(*it, ec) || ec) break;
+    fs::remove(*it, ec);
+  }
+}
+
 void WriteFileAtomically(const std::string& path, const std::string& content) {
   AtomicFile file(path);
   file.stream() << content;

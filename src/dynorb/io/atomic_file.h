@@ -34,6 +34,26 @@ class AtomicFile {
 // say), so that a command can refuse before it writes any of its outputs.
 void CheckOutputTargets(const std::vector<std::string>& paths);
 
+// A command's output folder. The constructor creates it (with its missing parents) or throws
+// InputError("cannot create <what> <path>"). Destroyed without Keep() (the command failed), it
+// removes the folders it created if they are still empty, so a failed command leaves no empty
+// output folder behind; a folder that existed before is never removed. Not thread-safe.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::string& path, const std::string& what = "output folder");
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  void Keep() { keep_ = true; }
+
+ private:
+  void RemoveCreated() const;  // Innermost first; stops at a folder that is no longer empty.
+
+  std::vector<std::string> created_;  // Outermost first.
+  bool keep_ = false;
+};
+
 // Writes `content` to `path` atomically.
 void WriteFileAtomically(const std::string& path, const std::string& content);
 
