@@ -23,6 +23,7 @@
 #include "dynorb/eval/report.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/io/config.h"
+#include "dynorb/io/frame_range.h"
 #include "dynorb/io/point_cloud_io.h"
 #include "dynorb/io/trajectory_io.h"
 #include "dynorb/io/tum_sequence.h"
@@ -41,29 +42,6 @@ namespace dynorb {
 namespace {
 
 namespace fs = std::filesystem;
-
-// "A:B" (either side may be empty) -> [first, last) clamped to size.
-std::pair<size_t, size_t> ParseRange(const std::string& text, size_t size) {
-  if (text.empty()) return {0, size};
-  const size_t colon = text.find(':');
-  if (colon == std::string::npos) throw InputError("--frames expects A:B (e.g. 0:300 or 100:), got '" + text + "'");
-  auto parse = [&](const std::string& s, size_t fallback) -> size_t {
-    if (s.empty()) return fallback;
-    size_t pos = 0;
-    long long v = -1;
-    try {
-      v = std::stoll(s, &pos);
-    } catch (const std::exception&) {
-      pos = 0;
-    }
-    if (pos != s.size() || v < 0) throw InputError("--frames: not a frame index: '" + s + "'");
-    return static_cast<size_t>(v);
-  };
-  const size_t first = parse(text.substr(0, colon), 0);
-  const size_t last = std::min(parse(text.substr(colon + 1), size), size);
-  if (first >= last) throw InputError("--frames " + text + " selects no frame of a " + std::to_string(size) + "-frame sequence");
-  return {first, last};
-}
 
 }  // namespace
 
@@ -122,7 +100,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     for (const std::string& overlay : cli.config_overlays) config_path += " + " + overlay;
   }
   TumSequence sequence(cli.dataset, config.dataset);
-  const auto [first, last] = ParseRange(cli.frames, sequence.size());
+  const auto [first, last] = SelectFrames(cli.frames, sequence.size());
   OutputFolder out_folder(cli.out);  // Removed again if still empty when the run fails.
   {
     std::vector<std::string> targets;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "dynorb/core/error.h"
+#include "dynorb/io/frame_range.h"
 
 namespace dynorb {
 namespace {
@@ -111,7 +112,14 @@ class Parser {
       }
     }
     if (node["config"]) s.config = Resolve(Str(node["config"], "config"));
-    if (node["frames"]) s.frames = Str(node["frames"], "frames");
+    if (node["frames"]) {
+      s.frames = Str(node["frames"], "frames");
+      try {
+        ParseFrameRange(s.frames, "'frames'");  // The sequence's length is known only at run time.
+      } catch (const InputError& e) {
+        Fail(node["frames"], e.what());
+      }
+    }
     if (node["tum_name"]) s.tum_name = Str(node["tum_name"], "tum_name");
     return s;
   }

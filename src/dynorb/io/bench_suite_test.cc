@@ -169,6 +169,11 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:2: 'frames' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: many}}\n" + modes),
               HasSubstr("'frames' expects an integer, got 'many'"));
+  // A sequence's frame range is checked when the suite is read, not when its run starts.
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: /x,\n     frames: abc}\n" + modes),
+              HasSubstr("suite.yaml:3: 'frames' expects A:B (e.g. 0:300 or 100:), got 'abc'"));
+  EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: /x, frames: \"5:2\"}\n" + modes),
+              HasSubstr("'frames' 5:2 selects no frame"));
   EXPECT_THAT(ErrorOf("repeats: 0\nsequences: [{name: a, path: x}]\n" + modes),
               HasSubstr("suite.yaml:1: 'repeats'"));
   EXPECT_THAT(ErrorOf("sequences: [{name: a, path: x}]\n"), HasSubstr("non-empty list 'modes'"));
