@@ -1,7 +1,9 @@
 #include "dynorb/io/rgbd_image_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
@@ -16,9 +18,32 @@ cv::Mat ReadImage(const std::string& path, int flags, const char* what) {
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(std::string(what) + " image not found: " + path);
   }
+  std::vector<uchar> bytes;
+  {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+    if (size >= 0) {
+      bytes.resize(static_cast<size_t>(size));
+      in.seekg(0);
+      in.read(reinterpret_cast<char*>(bytes.data()), size);
+    }
+    if (size < 0 || !in) throw InputError(std::string(what) + " image cannot be read: " + path);
+  }
+  // A PNG cut short (an interrupted copy) is named here: decoding it would also print libpng's
+  // own "Read Error" line before ours. Its end chunk, IEND, is the last 12 bytes (some writers
+  // append a little after it).
+  static const uchar kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin())) {
+    static const char kEnd[4] = {'I', 'E', 'N', 'D'};
+    const size_t tail = std::min<size_t>(bytes.size() - 8, 4096);
+    if (std::search(bytes.end() - static_cast<std::ptrdiff_t>(tail), bytes.end(), kEnd, kEnd + 4) ==
+        bytes.end()) {
+      throw InputError(std::string(what) + " image is truncated (a PNG without its end): " + path);
+    }
+  }
   cv::Mat image;
   try {
-    image = cv::imread(path, flags);
+    image = cv::imdecode(bytes, flags);
   } catch (const cv::Exception& e) {
     throw InputError(std::string(what) + " image cannot be read: " + path + " (" + e.what() + ")");
   }

@@ -220,6 +220,17 @@ TEST_F(TumSequenceTest, BadImages) {
   WriteText("depth/1.png", "garbage");
   ExpectInputError([&] { seq.Frame(1); }, "depth image cannot be read");
 
+  // A PNG cut short is named as such (libpng would print its own line first); one with a few
+  // bytes after its end chunk still reads.
+  cv::Mat depth(kHeight, kWidth, CV_16UC1, cv::Scalar(5000));
+  std::vector<uchar> png;
+  ASSERT_TRUE(cv::imencode(".png", depth, png));
+  WriteText("depth/1.png", std::string(png.begin(), png.end() - 12));
+  ExpectInputError([&] { seq.Frame(1); }, "depth image is truncated (a PNG without its end): " +
+                                              (dir_ / "depth/1.png").string());
+  WriteText("depth/1.png", std::string(png.begin(), png.end()) + "trailing");
+  EXPECT_EQ(seq.Frame(1).depth_m.at<float>(0, 0), 1.0f);
+
   cv::Mat small(kHeight - 1, kWidth, CV_16UC1, cv::Scalar(5000));
   ASSERT_TRUE(cv::imwrite((dir_ / "depth/2.png").string(), small));
   ExpectInputError([&] { seq.Frame(2); }, "depth image size 8x5 differs from rgb image size 8x6");
