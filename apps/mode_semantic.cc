@@ -73,8 +73,16 @@ void SemanticModeFactory::BindConfig(ConfigSchema* schema) {
       });
 }
 
+SemanticModeFactory::~SemanticModeFactory() {
+  // The factory outlives the run's filter: `dynorb bench` runs its next run in this process.
+  if (saved_threads_ >= 0) cv::setNumThreads(saved_threads_);
+}
+
 std::unique_ptr<KeypointFilter> SemanticModeFactory::Create(const RunModeContext& context) {
-  if (threads_ > 0) cv::setNumThreads(threads_);
+  if (threads_ > 0) {
+    if (saved_threads_ < 0) saved_threads_ = cv::getNumThreads();
+    cv::setNumThreads(threads_);
+  }
   SemanticOptions options = options_;
   options.detector.models_dir = ResolveModelsDir(context.models_dir);
   std::unique_ptr<MaskProvider> provider;

@@ -2,6 +2,11 @@
 // configuration key overriding them.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "dynorb/core/error.h"
@@ -61,6 +66,36 @@ TEST(RunModes, FastAndFusedDefaultsDifferWhereMeasuredAndTheKeyOverridesThem) {
   EXPECT_EQ(ValueIn(EffectiveYaml("semantic", "semantic:\n  steady_detect_every: 0\n"), "semantic",
                     "steady_detect_every"),
             "0");
+}
+
+// `semantic.threads` sets OpenCV's thread count for the run only: `dynorb bench` runs every run
+// of a suite in one process.
+TEST(RunModes, SemanticThreadsLastAsLongAsTheRun) {
+  const std::string list = (std::filesystem::temp_directory_path() /
+                            ("dynorb_modes_boxes_" + std::to_string(::getpid()) + ".txt"))
+                               .string();
+  std::ofstream(list) << "1.0 10 10 20 20\n";
+  const int before = cv::getNumThreads();
+  const int asked = before == 3 ? 2 : 3;
+  for (const std::string mode : {"semantic", "fused"}) {
+    SCOPED_TRACE(mode);
+    {
+      ConfigSchema schema;
+      std::unique_ptr<RunModeFactory> factory = MakeRunModeFactory(mode);
+      factory->BindConfig(&schema);
+      schema.LoadString("semantic:\n  threads: " + std::to_string(asked) +
+                            "\n  source: boxes\n  list: " + list + "\n",
+                        "test.yaml");
+      RunModeContext context;
+      SystemConfig config;
+      context.config = &config;
+      std::unique_ptr<KeypointFilter> filter = factory->Create(context);
+      ASSERT_NE(filter, nullptr);
+      EXPECT_EQ(cv::getNumThreads(), asked);
+    }
+    EXPECT_EQ(cv::getNumThreads(), before);
+  }
+  std::filesystem::remove(list);
 }
 
 TEST(RunModes, UnknownModeAndBadSectionValueAreInputErrors) {

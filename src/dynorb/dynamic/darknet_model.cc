@@ -11,6 +11,10 @@
 namespace dynorb {
 namespace {
 
+// Channel count limit of a layer (the real models have at most a few thousand): larger counts
+// in a corrupt cfg would overflow the size arithmetic.
+constexpr int kMaxChannels = 1 << 20;
+
 int IntValue(const DarknetSection& s, const std::string& key, int fallback,
              const std::string& path) {
   auto it = s.values.find(key);
@@ -102,8 +106,10 @@ std::vector<DarknetConv> DarknetConvolutions(const std::vector<DarknetSection>& 
       conv.size = IntValue(s, "size", 1, cfg_path);
       conv.groups = IntValue(s, "groups", 1, cfg_path);
       conv.batch_normalize = IntValue(s, "batch_normalize", 0, cfg_path) != 0;
-      if (conv.filters < 1 || conv.size < 1) {
-        throw InputErrorAt(cfg_path, s.line, "filters and size must be positive");
+      if (conv.filters < 1 || conv.size < 1 || conv.filters > kMaxChannels || conv.size > 64) {
+        throw InputErrorAt(
+            cfg_path, s.line,
+            "filters must be 1.." + std::to_string(kMaxChannels) + " and size 1..64");
       }
       if (conv.groups < 1 || current % conv.groups != 0) {
         throw InputErrorAt(cfg_path, s.line,
@@ -115,14 +121,19 @@ std::vector<DarknetConv> DarknetConvolutions(const std::vector<DarknetSection>& 
     } else if (s.type == "route") {
       auto it = s.values.find("layers");
       if (it == s.values.end()) throw InputErrorAt(cfg_path, s.line, "[route] without layers=");
-      int sum = 0;
+      int64_t sum = 0;
       for (int ref : IntList(it->second, s, cfg_path)) {
-        const int abs = ref < 0 ? index + ref : ref;
+        const int64_t abs = ref < 0 ? int64_t{index} + ref : ref;
         if (abs < 0 || abs >= index)
           throw InputErrorAt(cfg_path, s.line, "[route] refers to a missing layer");
-        sum += channels[abs];
+        sum += channels[static_cast<size_t>(abs)];
+        if (sum > kMaxChannels) {
+          throw InputErrorAt(
+              cfg_path, s.line,
+              "[route] joins more than " + std::to_string(kMaxChannels) + " channels");
+        }
       }
-      current = sum;
+      current = static_cast<int>(sum);
     } else if (s.type == "shortcut" || s.type == "maxpool" || s.type == "upsample" ||
                s.type == "yolo" || s.type == "dropout") {
       // Channel count unchanged, no weights.
@@ -142,7 +153,7 @@ size_t DarknetWeightsHeaderBytes(const std::string& weights_path) {
     throw InputError(weights_path +
                      ": truncated darknet weights header (expected 3 int32 version fields)");
   const bool wide_seen =
-      version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
+      int64_t{version[0]} * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
   return sizeof(version) + (wide_seen ? 8 : 4);
 }
 
@@ -257,6 +268,46 @@ DarknetBuffers PruneDarknetClasses(const std::string& cfg_path, const std::strin
     src += conv.Floats();
   }
   return out;
+}
+
+std::string DarknetCfgWithYoloThreshold(const std::string& cfg, double thresh) {
+  std::ostringstream value;
+  value.precision(9);
+  value << "thresh=" << thresh << "\n";
+  std::string out;
+  std::istringstream in(cfg);
+  std::string line;
+  bool in_yolo = false;
+  auto close_section = [&] {
+    if (in_yolo) out += value.str();  // Last in its section: overrides a thresh= of the file.
+  };
+  while (std::getline(in, line)) {
+    const std::string bare = TrimBlanks(line.substr(0, line.find('#')));
+    if (!bare.empty() && bare.front() == '[') {
+      close_section();
+      in_yolo = bare == "[yolo]";
+    }
+    out += line + "\n";
+  }
+  close_section();
+  return out;
+}
+
+DarknetBuffers ReadDarknetModel(const std::string& cfg_path, const std::string& weights_path) {
+  DarknetBuffers model;
+  auto read = [](const std::string& path, auto* into) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+    if (size >= 0) {
+      into->resize(static_cast<size_t>(size));
+      in.seekg(0);
+      in.read(into->data(), size);
+    }
+    if (size < 0 || !in) throw InputError(path + ": cannot read the darknet model file");
+  };
+  read(cfg_path, &model.cfg);
+  read(weights_path, &model.weights);
+  return model;
 }
 
 }  // namespace dynorb

@@ -49,6 +49,17 @@ struct DarknetBuffers {
   std::vector<char> weights;
 };
 
+// The two files of a darknet model, read as they are. Throws InputError naming an unreadable file.
+DarknetBuffers ReadDarknetModel(const std::string& cfg_path, const std::string& weights_path);
+
+// OpenCV's darknet importer's [yolo] `thresh` when the cfg has none.
+constexpr double kDarknetDefaultYoloThresh = 0.2;
+
+// OpenCV's darknet importer zeroes every [yolo] class score below the head's `thresh` (0.2 when
+// the cfg has none, as the Yolo-Fastest cfgs). `cfg` with `thresh=<thresh>` as the last line of
+// every [yolo] section, so that a lower score threshold can take effect.
+std::string DarknetCfgWithYoloThreshold(const std::string& cfg, double thresh);
+
 // The model of `cfg_path` / `weights_path` with only the classes `keep` (indices into the model's
 // class list, strictly increasing) in every [yolo] head: the 1x1 convolution before each head
 // keeps, per anchor, its 4 box + 1 objectness outputs and the kept classes' outputs (biases and

@@ -136,5 +136,78 @@ TEST(DarknetModel, PruningBadInputIsAClearError) {
   fs::remove_all(dir);
 }
 
+// OpenCV zeroes [yolo] class scores below the head's thresh (0.2 by default): the rewritten cfg
+// lets lower scores through and changes nothing else.
+TEST(DarknetModel, YoloThresholdLineLetsLowScoresThrough) {
+  const std::string two_heads =
+      "[net]\nwidth=32\n[yolo]\nthresh = 0.5\nclasses=3\n[route]\nlayers=-1\n[yolo]\nclasses=3";
+  EXPECT_EQ(DarknetCfgWithYoloThreshold(two_heads, 0.05),
+            "[net]\nwidth=32\n[yolo]\nthresh = 0.5\nclasses=3\nthresh=0.05\n[route]\nlayers=-1\n"
+            "[yolo]\nclasses=3\nthresh=0.05\n");
+  EXPECT_EQ(DarknetCfgWithYoloThreshold("[net]\nwidth=32\n# [yolo]\n", 0.1),
+            "[net]\nwidth=32\n# [yolo]\n");
+
+  const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_thresh";
+  WriteTinyModel(dir, TinyCfg(), kConv1Floats + kHeadFloats);
+  const std::string cfg = (dir / "tiny.cfg").string(), weights = (dir / "tiny.weights").string();
+  DarknetBuffers model = ReadDarknetModel(cfg, weights);
+  ASSERT_EQ(model.cfg, TinyCfg());
+  ASSERT_EQ(model.weights.size(), fs::file_size(weights));
+  cv::Mat image(32, 32, CV_32FC3);
+  cv::randu(image, 0.f, 1.f);
+  auto class_scores = [&](const std::string& text) {
+    cv::dnn::Net net = cv::dnn::readNetFromDarknet(text.data(), text.size(), model.weights.data(),
+                                                   model.weights.size());
+    net.setInput(cv::dnn::blobFromImage(image));
+    const cv::Mat out = net.forward().clone();
+    return out.colRange(5, out.cols).clone();
+  };
+  // This tiny network's class scores lie in 0.23..0.27: a thresh line of 0.25 zeroes some that
+  // the default floor (0.2) and a line of 0.01 both keep, so the line is what OpenCV applies.
+  const cv::Mat floor = class_scores(model.cfg);
+  const cv::Mat low = class_scores(DarknetCfgWithYoloThreshold(model.cfg, 0.01));
+  const cv::Mat high = class_scores(DarknetCfgWithYoloThreshold(model.cfg, 0.25));
+  int zeroed = 0, kept = 0;
+  for (int r = 0; r < low.rows; ++r) {
+    for (int c = 0; c < low.cols; ++c) {
+      const float l = low.at<float>(r, c), h = high.at<float>(r, c);
+      EXPECT_EQ(floor.at<float>(r, c), l);
+      if (l > 0.f && l < 0.25f) {
+        EXPECT_EQ(h, 0.f);
+        ++zeroed;
+      } else {
+        EXPECT_EQ(h, l);
+        ++kept;
+      }
+    }
+  }
+  EXPECT_GT(zeroed, 0);
+  EXPECT_GT(kept, 0);
+  fs::remove_all(dir);
+}
+
+// Sizes that overflowed int arithmetic (found with UBSan) are refused or handled.
+TEST(DarknetModel, HugeCountsAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / "dynorb_darknet_huge";
+  fs::create_directories(dir);
+  std::ofstream(dir / "huge.cfg")
+      << "[net]\nchannels=3\n[convolutional]\nfilters=2000000000\nsize=1\n[route]\nlayers=-1,-1\n";
+  const std::string huge = (dir / "huge.cfg").string();
+  ExpectInputError([&] { DarknetConvolutions(ReadDarknetCfg(huge), huge); },
+                   "filters must be 1..1048576");
+  std::ofstream(dir / "wide.cfg") << "[net]\nchannels=3\n[convolutional]\nfilters=1000000\nsize=1\n"
+                                     "[route]\nlayers=-1,-1\n";
+  const std::string wide = (dir / "wide.cfg").string();
+  ExpectInputError([&] { DarknetConvolutions(ReadDarknetCfg(wide), wide); },
+                   "joins more than 1048576");
+  {
+    std::ofstream out(dir / "v.weights", std::ios::binary);
+    const int32_t version[3] = {0x7fffffff, 0x7fffffff, 0};
+    out.write(reinterpret_cast<const char*>(version), sizeof(version));
+  }
+  EXPECT_EQ(DarknetWeightsHeaderBytes((dir / "v.weights").string()), 16u);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace dynorb

@@ -175,19 +175,28 @@ DnnDetector::DnnDetector(const DetectorOptions& options) : options_(options) {
   }
   const bool prune = spec_.family == ModelFamily::kDarknetYolo && options_.prune_heads &&
                      !keep.empty() && keep.size() < class_names_.size();
+  // Below OpenCV's [yolo] score floor the cfg is given the threshold (DarknetCfgWithYoloThreshold).
+  const bool low_threshold = spec_.family == ModelFamily::kDarknetYolo &&
+                             options_.score_threshold < kDarknetDefaultYoloThresh;
+  const std::string cfg_path = (fs::path(folder) / spec_.config_file).string();
   try {
-    if (prune) {
-      const DarknetBuffers model =
-          PruneDarknetClasses((fs::path(folder) / spec_.config_file).string(), model_path, keep,
-                              static_cast<int>(class_names_.size()), names_path);
+    if (prune || low_threshold) {
+      DarknetBuffers model =
+          prune ? PruneDarknetClasses(cfg_path, model_path, keep,
+                                      static_cast<int>(class_names_.size()), names_path)
+                : ReadDarknetModel(cfg_path, model_path);
+      if (low_threshold)
+        model.cfg = DarknetCfgWithYoloThreshold(model.cfg, options_.score_threshold);
       net_ = cv::dnn::readNetFromDarknet(model.cfg.data(), model.cfg.size(), model.weights.data(),
                                          model.weights.size());
+    }
+    if (prune) {
       std::vector<std::string> kept;
       for (int i : keep) kept.push_back(class_names_[i]);
       class_names_ = kept;
       pruned_ = true;
     } else if (spec_.family == ModelFamily::kDarknetYolo) {
-      net_ = cv::dnn::readNetFromDarknet((fs::path(folder) / spec_.config_file).string(), model_path);
+      if (!low_threshold) net_ = cv::dnn::readNetFromDarknet(cfg_path, model_path);
       if (!keep.empty()) {
         allowed_.assign(class_names_.size(), false);
         for (int i : keep) allowed_[i] = true;

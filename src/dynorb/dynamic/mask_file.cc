@@ -1,15 +1,29 @@
 #include "dynorb/dynamic/mask_file.h"
 
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "dynorb/core/error.h"
 
 namespace dynorb {
+namespace {
+
+// The whole of `token` as a T (no trailing characters).
+template <typename T>
+bool ParseWhole(const std::string& token, T* value) {
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, *value);
+  return ec == std::errc() && ptr == end;
+}
+
+}  // namespace
 
 FileMaskProvider::FileMaskProvider(const std::string& list_path, MaskFileKind kind, const DepthRefineOptions& refine,
                                    double max_time_diff_s)
@@ -35,19 +49,30 @@ FileMaskProvider::FileMaskProvider(const std::string& list_path, MaskFileKind ki
       }
       if (!masks_.emplace(stamp, path).second) throw InputErrorAt(list_path, number, "duplicate timestamp");
     } else {
-      Detection d;
-      float x = 0, y = 0, w = 0, h = 0;
-      if (!(fields >> x >> y >> w >> h) || w <= 0.f || h <= 0.f) {
-        throw InputErrorAt(list_path, number,
-                           "expected 'timestamp x y w h [class_id] [score]' with w, h > 0, got '" + line + "'");
+      // Each field read whole: "1.5" is not a class id followed by a score of 0.5.
+      std::vector<std::string> tokens;
+      for (std::string token; fields >> token;) tokens.push_back(token);
+      const std::string usage =
+          "expected 'timestamp x y w h [class_id] [score]' with w, h > 0, got '" + line + "'";
+      if (tokens.size() < 4 || tokens.size() > 6) throw InputErrorAt(list_path, number, usage);
+      float box[4];
+      for (int k = 0; k < 4; ++k) {
+        if (!ParseWhole(tokens[k], &box[k]) || !std::isfinite(box[k]))
+          throw InputErrorAt(list_path, number, usage);
       }
-      d.box = cv::Rect2f(x, y, w, h);
+      if (box[2] <= 0.f || box[3] <= 0.f) throw InputErrorAt(list_path, number, usage);
+      Detection d;
+      d.box = cv::Rect2f(box[0], box[1], box[2], box[3]);
       d.score = 1.f;
-      if (fields >> d.class_id) fields >> d.score;
-      std::string extra;
-      if (fields.fail() && !fields.eof()) throw InputErrorAt(list_path, number, "malformed class_id/score");
-      fields.clear();
-      if (fields >> extra) throw InputErrorAt(list_path, number, "unexpected trailing field '" + extra + "'");
+      if (tokens.size() >= 5 && (!ParseWhole(tokens[4], &d.class_id) || d.class_id < 0)) {
+        throw InputErrorAt(list_path, number,
+                           "class_id must be a non-negative integer, got '" + tokens[4] + "'");
+      }
+      if (tokens.size() == 6 &&
+          (!ParseWhole(tokens[5], &d.score) || !(d.score >= 0.f && d.score <= 1.f))) {
+        throw InputErrorAt(list_path, number,
+                           "score must be a number in [0, 1], got '" + tokens[5] + "'");
+      }
       boxes_[stamp].push_back(d);
     }
   }

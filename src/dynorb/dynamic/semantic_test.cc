@@ -61,6 +61,37 @@ TEST(SemanticDetector, EveryModelFindsThePeopleInRealImages) {
   }
 }
 
+// A score threshold below OpenCV's darknet floor (0.2) takes effect, whole or pruned; the
+// detections above the default threshold stay the same (NMS is greedy by score).
+TEST(SemanticDetector, DarknetScoreThresholdBelowOpenCvsFloorTakesEffect) {
+  if (!fs::is_directory(kModels) || !fs::is_directory(kTumFrame))
+    GTEST_SKIP() << "no shared models/data at " << kShared;
+  const cv::Mat tum = cv::imread(kTumFrame + "/rgb/1341846313.592026.png");
+  ASSERT_FALSE(tum.empty());
+  for (const bool whole : {true, false}) {
+    SCOPED_TRACE(whole ? "all classes" : "pruned to person, chair");
+    DetectorOptions options;
+    options.model = "yolo_fastest_1.1";
+    options.models_dir = kModels;
+    if (!whole) options.classes = {"person", "chair"};
+    const std::vector<Detection> usual = DnnDetector(options).Detect(tum);
+    options.score_threshold = 0.05;
+    const std::vector<Detection> low = DnnDetector(options).Detect(tum);
+    EXPECT_TRUE(
+        std::any_of(low.begin(), low.end(), [](const Detection& d) { return d.score < 0.2f; }));
+    std::vector<Detection> above;
+    for (const Detection& d : low)
+      if (d.score >= 0.3f) above.push_back(d);
+    ASSERT_EQ(above.size(), usual.size());
+    for (const Detection& d : usual) {
+      EXPECT_TRUE(std::any_of(above.begin(), above.end(), [&](const Detection& e) {
+        return e.class_id == d.class_id && std::abs(e.score - d.score) < 1e-5f &&
+               BoxIou(e.box, d.box) > 0.999f;
+      }));
+    }
+  }
+}
+
 void ExpectInputError(const DetectorOptions& options, const std::string& needle) {
   try {
     DnnDetector detector(options);
@@ -572,12 +603,22 @@ TEST(FileMaskProvider, BoxesAndMasksLists) {
   FileMaskProvider masks((dir / "masks.txt").string(), MaskFileKind::kMasks, refine);
   EXPECT_EQ(cv::countNonZero(masks.Masks({0, 1.0, &bgr, nullptr}).mask), 100);
   // Bad input names the file and line.
-  std::ofstream(dir / "bad.txt") << "1.0 10 10 -5 5\n";
-  try {
-    FileMaskProvider bad((dir / "bad.txt").string(), MaskFileKind::kBoxes, refine);
-    FAIL() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.txt:1"), std::string::npos) << e.what();
+  for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
+           {"1.0 10 10 -5 5", "bad.txt:1: expected 'timestamp x y w h"},
+           {"# c\n1.0 10 20 30 40 1.5",
+            "bad.txt:2: class_id must be a non-negative integer, got '1.5'"},
+           {"1.0 10 20 30 40 -2", "class_id must be a non-negative integer"},
+           {"1.0 10 20 30 40 3 -7", "score must be a number in [0, 1], got '-7'"},
+           {"1.0 10 20 30 40 3 0.5x", "score must be a number in [0, 1], got '0.5x'"},
+           {"1.0 10 20 30 nan", "expected 'timestamp x y w h"},
+           {"1.0 10 20 30 40 3 0.5 9", "expected 'timestamp x y w h"}}) {
+    std::ofstream(dir / "bad.txt") << text << "\n";
+    try {
+      FileMaskProvider bad((dir / "bad.txt").string(), MaskFileKind::kBoxes, refine);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
   }
   std::ofstream(dir / "missing.txt") << "1.0 nothere.png\n";
   FileMaskProvider missing((dir / "missing.txt").string(), MaskFileKind::kMasks, refine);
