@@ -11,7 +11,7 @@ models=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --dest) dest="$2"; shift 2 ;;
-    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
     *) models+=("$1"); shift ;;
   esac
 done
@@ -49,30 +49,55 @@ nanodet_m_320 coco.names $ND/coco.names $COCO_SHA
 LIST
 }
 
+# Refuse unknown names (exact, whole-name comparison) and missing tools before creating anything.
+for model in "${models[@]}"; do
+  known=0
+  for m in "${all[@]}"; do [[ "$model" == "$m" ]] && known=1; done
+  if [[ $known -eq 0 ]]; then
+    echo "unknown model ${model@Q} (known: ${all[*]})" >&2; exit 2
+  fi
+done
+missing=()
+for tool in curl sha256sum; do command -v "$tool" >/dev/null || missing+=("$tool"); done
+if [[ ${#missing[@]} -gt 0 ]]; then
+  echo "fetch_models.sh needs ${missing[*]}, not found on PATH (Debian: apt-get install curl coreutils, or make deps)" >&2
+  exit 2
+fi
+
+# The file being downloaded; removed if the script is interrupted before it is checked.
+part=""
+trap '[[ -z "$part" ]] || rm -f -- "$part"' EXIT
 failed=0
 for model in "${models[@]}"; do
-  if ! printf '%s\n' "${all[@]}" | grep -qx "$model"; then
-    echo "unknown model '$model' (known: ${all[*]})" >&2; exit 2
-  fi
   mkdir -p "$dest/$model"
   while read -r name file url sha; do
     [[ "$name" == "$model" ]] || continue
     out="$dest/$model/$file"
-    if [[ -f "$out" ]] && echo "$sha  $out" | sha256sum -c --status; then
-      echo "ok       $out"; continue
+    if [[ -f "$out" ]]; then
+      if echo "$sha  $out" | sha256sum -c --status; then
+        echo "ok       $out"; continue
+      fi
+      # Never leave a file with a wrong sum at its final name (dynorb does not check sums at load).
+      rm -f -- "$out"; echo "removed  $out (sha256 mismatch; fetching it again)"
     fi
+    part="$out.part"
     if [[ "$url" == "-" ]]; then
-      printf 'body\n' > "$out.part"   # the body model's one-line class list (not a file upstream)
+      printf 'body\n' > "$part"   # the body model's one-line class list (not a file upstream)
     else
       echo "fetch    $url"
-      curl -fsSL --retry 3 -o "$out.part" "$url" || { echo "FAILED download $url" >&2; failed=1; continue; }
+      if ! err=$(curl -fsSL --retry 3 -o "$part" "$url" 2>&1); then
+        rm -f -- "$part"; part=""
+        err=${err##*$'\n'}
+        echo "FAILED download $url${err:+ ($err)}" >&2; failed=$((failed + 1)); continue
+      fi
     fi
-    if echo "$sha  $out.part" | sha256sum -c --status; then
-      mv "$out.part" "$out"; echo "verified $out"
+    if echo "$sha  $part" | sha256sum -c --status; then
+      mv -f -- "$part" "$out"; part=""; echo "verified $out"
     else
-      echo "SHA256 MISMATCH for $out (expected $sha); file left as $out.part" >&2; failed=1
+      rm -f -- "$part"; part=""
+      echo "SHA256 MISMATCH for $out (expected $sha); download removed" >&2; failed=$((failed + 1))
     fi
   done < <(manifest)
 done
-[[ $failed -eq 0 ]] || { echo "some files failed; see above" >&2; exit 1; }
+[[ $failed -eq 0 ]] || { echo "$failed file(s) failed; see above" >&2; exit 1; }
 echo "models in $dest; use: dynorb run --mode semantic --models $dest ..."
