@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 
@@ -26,7 +27,11 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw InputError("output directory does not exist: " + dir.string());
-  temp_path_ = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()))).string();
+  // Process id and a counter: two threads writing one target never share a temporary file.
+  static std::atomic<unsigned long long> counter{0};
+  temp_path_ = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                       "-" + std::to_string(counter++)))
+                   .string();
   out_.open(temp_path_, std::ios::binary | std::ios::trunc);
   if (!out_) throw InputError("cannot write to " + path_ + " (is the directory writable?)");
 }

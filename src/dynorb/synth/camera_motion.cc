@@ -178,8 +178,12 @@ std::vector<FrameTime> ReadFrameTimes(const std::string& associations_path, doub
     const double rgb = ParseDouble(fields[0], associations_path, line);
     const double depth = ParseDouble(fields[2], associations_path, line);
     if (rgb < first_ts || rgb > first_ts + duration_s) return;
-    if (!times.empty() && rgb <= times.back().rgb_ts)
-      throw InputErrorAt(associations_path, line, "timestamps must increase");
+    // Compared as written (microseconds, SequenceWriter::Stamp): two frames may not share a file.
+    auto micros = [](double t) { return std::llround(t * 1e6); };
+    if (!times.empty() && micros(rgb) <= micros(times.back().rgb_ts))
+      throw InputErrorAt(associations_path, line, "rgb timestamps must increase (by >= 1 us)");
+    if (!times.empty() && micros(depth) <= micros(times.back().depth_ts))
+      throw InputErrorAt(associations_path, line, "depth timestamps must increase (by >= 1 us)");
     times.push_back({rgb - first_ts, rgb, depth});
   });
   if (times.empty())

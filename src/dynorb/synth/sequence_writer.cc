@@ -1,5 +1,7 @@
 #include "dynorb/synth/sequence_writer.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -31,20 +33,60 @@ void SequenceWriter::CheckTarget(const std::string& dir, bool force) {
     throw InputError("output directory is not empty: " + dir + " (use --force to overwrite)");
 }
 
-SequenceWriter::SequenceWriter(std::string dir, bool force) : dir_(std::move(dir)) {
-  CheckTarget(dir_, force);
+SequenceWriter::SequenceWriter(std::string dir, bool force) : final_dir_(std::move(dir)) {
+  CheckTarget(final_dir_, force);
+  // The staging folder: a hidden sibling, so that Commit() is a rename on the same file system.
+  fs::path target = fs::path(final_dir_).lexically_normal();
+  if (target.has_parent_path() && target.filename().empty()) target = target.parent_path();
+  const std::string name = target.filename().string();
+  if (name.empty() || name == "." || name == "..")
+    throw InputError("output directory must be named: " + final_dir_);
+  dir_ = (target.parent_path() / ("." + name + ".partial-" + std::to_string(::getpid()))).string();
   std::error_code ec;
-  if (force)
-    for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(fs::path(dir_) / sub, ec);
+  fs::remove_all(dir_, ec);  // A stale one of an earlier process with this id.
   for (const char* sub : {"rgb", "depth", "masks"}) {
     fs::create_directories(fs::path(dir_) / sub, ec);
-    if (ec)
-      throw InputError("cannot create output directory " + (fs::path(dir_) / sub).string() + ": " +
-                       ec.message());
+    if (ec) {
+      fs::remove_all(dir_, ec);
+      throw InputError("cannot create output directory " + final_dir_ + " (" + ec.message() + ")");
+    }
   }
   // Fail early (before any rendering) if the directory is not writable.
-  WriteFileAtomically((fs::path(dir_) / ".write_test").string(), "");
+  try {
+    WriteFileAtomically((fs::path(dir_) / ".write_test").string(), "");
+  } catch (const InputError&) {
+    fs::remove_all(dir_, ec);
+    throw;
+  }
   fs::remove(fs::path(dir_) / ".write_test", ec);
+}
+
+SequenceWriter::~SequenceWriter() {
+  if (committed_) return;
+  std::error_code ec;
+  fs::remove_all(dir_, ec);  // A failed generation leaves nothing.
+}
+
+void SequenceWriter::Commit() {
+  std::error_code ec;
+  // An empty or missing target is replaced whole (rename replaces an empty directory).
+  if (!fs::exists(final_dir_, ec) || fs::is_empty(final_dir_, ec)) {
+    fs::rename(dir_, final_dir_, ec);
+    if (ec) throw InputError("cannot move " + dir_ + " to " + final_dir_ + ": " + ec.message());
+    committed_ = true;
+    return;
+  }
+  // --force on an earlier sequence: its entries are replaced, anything else in the folder stays.
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    const fs::path to = fs::path(final_dir_) / entry.path().filename();
+    fs::remove_all(to, ec);
+    fs::rename(entry.path(), to, ec);
+    if (ec)
+      throw InputError("cannot move " + entry.path().string() + " to " + to.string() + ": " +
+                       ec.message());
+  }
+  committed_ = true;
+  fs::remove(dir_, ec);
 }
 
 std::string SequenceWriter::Stamp(double timestamp_s) {

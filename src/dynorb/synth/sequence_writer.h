@@ -3,7 +3,8 @@
 //   masks/<rgb ts>.png (8-bit moving-object id, 0 = static), rgb.txt, depth.txt, masks.txt,
 //   associations.txt, groundtruth.txt (world_from_cam at the rgb timestamps), objects.txt,
 //   camera.yaml (ORB-SLAM2 keys), scene.yaml (all generation parameters).
-// Every file is written atomically (io/atomic_file.h). WriteFrame may be called concurrently
+// Every file is written atomically (io/atomic_file.h), the whole sequence into a staging folder
+// that Commit() moves into place. WriteFrame may be called concurrently
 // for different frames; the rest is single-threaded.
 #pragma once
 
@@ -18,10 +19,17 @@ namespace dynorb::synth {
 
 class SequenceWriter {
  public:
-  // Creates `dir` (and rgb/, depth/, masks/). Throws InputError if it cannot be created or
-  // written, or if it is not empty and `force` is false. With `force`, old rgb/, depth/, masks/
-  // are removed first.
+  // Writes into a hidden staging folder next to `dir` (.<name>.partial-<pid>, with rgb/, depth/,
+  // masks/). Throws InputError if it cannot be created or written, or if `dir` is not empty and
+  // `force` is false.
   SequenceWriter(std::string dir, bool force);
+  // Without Commit() (generation failed) the staging folder is removed: no half-written sequence.
+  ~SequenceWriter();
+  SequenceWriter(const SequenceWriter&) = delete;
+  SequenceWriter& operator=(const SequenceWriter&) = delete;
+  // Moves the sequence to `dir`. A missing or empty `dir` is replaced whole; with `force`, the
+  // entries of an earlier sequence in `dir` are replaced by the new ones and other files stay.
+  void Commit();
   // The checks of the constructor that need no writing (exists as a file, not empty): run them
   // before expensive work so that bad input fails early and leaves nothing behind.
   static void CheckTarget(const std::string& dir, bool force);
@@ -37,10 +45,12 @@ class SequenceWriter {
   // camera.yaml in the ORB-SLAM2 format dynorb reads.
   static std::string CameraYaml(const PinholeCamera& camera, double fps, double depth_factor);
 
-  const std::string& dir() const { return dir_; }
+  const std::string& dir() const { return final_dir_; }
 
  private:
-  std::string dir_;
+  std::string final_dir_;
+  std::string dir_;  // The staging folder written to.
+  bool committed_ = false;
 };
 
 }  // namespace dynorb::synth

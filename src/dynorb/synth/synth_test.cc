@@ -254,6 +254,9 @@ TEST(Synthesize, RejectsBadInputWithAClearError) {
   bad.out_dir = (dir / "sub").string();
   bad.people_dir = dir.string();
   expect_error(bad, "no RGBA *.png cut-outs");
+  cv::imwrite((dir / "ghost.png").string(), cv::Mat(8, 4, CV_8UC4, cv::Scalar(200, 100, 50, 20)));
+  expect_error(bad,
+               "person cut-out has no opaque pixel (alpha > 127): " + (dir / "ghost.png").string());
   fs::remove_all(dir);
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <mutex>
@@ -42,6 +43,10 @@ std::vector<std::pair<std::string, cv::Mat>> LoadCutouts(const std::string& dir)
     cv::Mat img = cv::imread(f, cv::IMREAD_UNCHANGED);
     if (img.empty()) throw InputError("cannot read person cut-out " + f);
     if (img.type() != CV_8UC4) throw InputError("person cut-out is not an 8-bit RGBA PNG: " + f);
+    cv::Mat alpha;
+    cv::extractChannel(img, alpha, 3);
+    if (cv::countNonZero(alpha > 127) == 0)  // The person would be invisible but listed as moving.
+      throw InputError("person cut-out has no opaque pixel (alpha > 127): " + f);
     cutouts.emplace_back(fs::path(f).filename().string(), img);
   }
   return cutouts;
@@ -101,8 +106,14 @@ SequenceSynth::SequenceSynth(const SynthOptions& options)
         warnings_.push_back("only " + std::to_string(num_frames()) + " frames in " +
                             assoc.string());
     } else {
-      const int n =
-          options_.frames > 0 ? options_.frames : static_cast<int>(path_->duration_s() * 30.0) + 1;
+      const double frames_at_30hz = std::floor(path_->duration_s() * 30.0) + 1.0;
+      if (options_.frames == 0 && !(frames_at_30hz <= SynthOptions::kMaxFrames)) {
+        throw InputError(options_.trajectory_file + " lasts " +
+                         std::to_string(path_->duration_s()) + " s: more than " +
+                         std::to_string(SynthOptions::kMaxFrames) +
+                         " frames at 30 Hz (pass --frames N)");
+      }
+      const int n = options_.frames > 0 ? options_.frames : static_cast<int>(frames_at_30hz);
       times_ = MakeFrameTimes(n, path_->first_timestamp_s(), options_.seed);
       timestamps_source_ = "30 Hz from the trajectory start";
     }
@@ -277,6 +288,7 @@ SynthReport Synthesize(const SynthOptions& options, const ProgressFn& progress) 
   writer.WriteText("objects.txt", objects);
   writer.WriteText("camera.yaml", SequenceWriter::CameraYaml(synth.camera(), 30.0, 5000.0));
   writer.WriteText("scene.yaml", synth.SceneYaml());
+  writer.Commit();
 
   SynthReport report;
   report.frames = n;
