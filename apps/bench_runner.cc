@@ -48,24 +48,34 @@ std::string UtcNow() {
   return text;
 }
 
+// The people cut-outs of generated sequences ("" = procedural figures).
+std::string SynthPeopleDir(const BenchOptions& options) {
+  if (options.people_dir == "auto")
+    return fs::is_directory(kDefaultPeopleDir) ? kDefaultPeopleDir : "";
+  return options.people_dir == "procedural" ? "" : options.people_dir;
+}
+
 // A cached sequence is reused only when its scene.yaml says it was made by this generator version
-// (synth::kSynthVersion); older ones are generated again.
-bool CachedSequenceIsCurrent(const std::string& dataset) {
+// (synth::kSynthVersion) with these people; others are generated again.
+bool CachedSequenceIsCurrent(const std::string& dataset, const std::string& people_dir) {
   if (!fs::exists(fs::path(dataset) / "rgb.txt")) return false;
   std::ifstream scene(fs::path(dataset) / "scene.yaml");
   std::string line;
-  const std::string wanted = std::string("synth_version: ") + synth::kSynthVersion;
+  bool version = false, people = false;
   while (std::getline(scene, line)) {
-    if (line.rfind("synth_version:", 0) == 0) return line == wanted;
+    if (line.rfind("synth_version:", 0) == 0)
+      version = line == std::string("synth_version: ") + synth::kSynthVersion;
+    if (line.rfind("people_dir:", 0) == 0) people = line == "people_dir: '" + people_dir + "'";
   }
-  return false;
+  return version && people;
 }
 
 // Generates one synthetic sequence into its cache folder unless a current one is there. The
 // generator writes into a temporary sibling that is renamed when complete, so an interrupted
 // generation is redone, never reused half-written.
 void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
-  if (CachedSequenceIsCurrent(seq.dataset)) return;
+  const std::string people_dir = SynthPeopleDir(options);
+  if (CachedSequenceIsCurrent(seq.dataset, people_dir)) return;
   const std::string temp = seq.dataset + ".partial";
   std::error_code ec;
   fs::remove_all(seq.dataset, ec);
@@ -78,11 +88,7 @@ void EnsureSynthetic(const BenchSequenceRun& seq, const BenchOptions& options) {
   o.static_twin = seq.twin;
   o.out_dir = temp;
   o.force = true;
-  if (options.people_dir == "auto") {
-    o.people_dir = fs::is_directory(kDefaultPeopleDir) ? kDefaultPeopleDir : "";
-  } else if (options.people_dir != "procedural") {
-    o.people_dir = options.people_dir;
-  }
+  o.people_dir = people_dir;
   o.command_line = "dynorb bench (suite " + options.suite + "): preset " + o.preset + " seed " +
                    std::to_string(o.seed) + " frames " + std::to_string(o.frames) +
                    (o.static_twin ? " static twin" : "");
@@ -158,6 +164,46 @@ void WriteViewLossConfig(const BenchSequenceRun& ref) {
                       ref.view_loss_of + ")\nsemantic:\n  source: masks\n  list: " + list + "\n");
 }
 
+// What a finished run was made from, kept next to its stats.json (kRequestFile): a run is resumed
+// only when it equals the new request's. The files it read count by their contents (the hashes
+// are compared within one build only: resuming also needs the same build id).
+constexpr const char* kRequestFile = "bench_request.json";
+
+std::string ContentHash(const std::string& path) {
+  if (path.empty()) return "";
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return std::to_string(std::hash<std::string>()(text.str()));
+}
+
+nlohmann::json RequestFingerprint(const RunRequest& r) {
+  std::vector<std::string> overlays;
+  for (const std::string& o : r.config_overlays) overlays.push_back(o + "#" + ContentHash(o));
+  const std::string config =
+      r.config.empty() ? (fs::path(r.dataset) / "camera.yaml").string() : r.config;
+  return {{"dataset", r.dataset},
+          {"scene", ContentHash((fs::path(r.dataset) / "scene.yaml").string())},
+          {"config", config + "#" + ContentHash(config)},
+          {"overlays", overlays},
+          {"mode", r.mode},
+          {"run_mode", r.run_mode},
+          {"seed", r.seed},
+          {"frames", r.frames},
+          {"models", r.models},
+          {"pipeline", r.pipeline},
+          {"pipeline_depth", r.pipeline_depth},
+          {"front_end_threads", r.front_end_threads},
+          {"preload", r.preload},
+          {"save_map", r.save_map}};
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return nullptr;
+  return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+}
+
 nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& seeds) {
   nlohmann::json j;
   j["name"] = plan.suite.name;
@@ -199,6 +245,10 @@ nlohmann::json SuiteJson(const BenchPlan& plan, const std::vector<uint64_t>& see
 BenchPlan PlanBench(const BenchOptions& options) {
   BenchPlan plan;
   plan.suite = LoadBenchSuite(options.suite);
+  if (const std::string people = SynthPeopleDir(options);
+      !people.empty() && !fs::is_directory(people))
+    throw InputError("people directory not found: " + people +
+                     " (--people DIR, auto or procedural)");
   BenchSuite& suite = plan.suite;
   const std::vector<std::string> registered = RunModeNames();
   std::vector<BenchMode> modes;
@@ -221,6 +271,11 @@ BenchPlan PlanBench(const BenchOptions& options) {
       throw InputErrorAt(suite.file, m.line,
                          "overlay file of mode '" + m.label + "' not found: " + m.overlay);
     }
+    // Their keys and values now, not after the sequences were generated.
+    std::vector<std::string> files;
+    for (const std::string& file : {m.config, m.overlay})
+      if (!file.empty()) files.push_back(file);
+    if (!files.empty()) CheckRunConfigFiles(m.name, files);
     modes.push_back(m);
   }
   if (modes.empty())
@@ -239,6 +294,7 @@ BenchPlan PlanBench(const BenchOptions& options) {
       throw InputErrorAt(suite.file, s.line,
                          "config file of sequence '" + s.name + "' not found: " + s.config);
     }
+    if (!s.config.empty()) CheckRunConfigFiles("plain", {s.config});
     if (s.synthetic) {
       if (!synth::FindPreset(s.synth.preset)) {
         throw InputErrorAt(suite.file, s.line,
@@ -344,18 +400,32 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
         {"sequence", seq.name},        {"mode", run.mode->label},
         {"mode_name", run.mode->name}, {"seed", run.seed},
         {"repeat", run.repeat},        {"dir", fs::relative(run.out_dir, out).string()}};
-    // Resume only results of this very executable (and with map.ply when the suite asks for it);
-    // an older build's (or an unreadable stats.json) are run again.
-    nlohmann::json previous;
-    if (fs::exists(stats_path)) {
-      std::ifstream in(stats_path);
-      previous = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    }
+    RunRequest request;
+    request.dataset = seq.dataset;
+    request.config = run.mode->config.empty() ? seq.config : run.mode->config;
+    if (!run.mode->overlay.empty()) request.config_overlays = {run.mode->overlay};
+    request.out = run.out_dir;
+    request.mode = run.mode->name;
+    request.run_mode = plan.suite.run_mode;
+    request.pipeline = plan.suite.pipeline;
+    request.pipeline_depth = plan.suite.pipeline_depth;
+    request.front_end_threads = plan.suite.front_end_threads;
+    request.preload = plan.suite.preload;
+    request.save_map = plan.suite.save_map;
+    request.seed = run.seed;
+    request.frames = seq.frames;
+    request.models = options.models;
+    request.quiet = true;
+    const std::string request_path = (fs::path(run.out_dir) / kRequestFile).string();
+    const nlohmann::json fingerprint = RequestFingerprint(request);
+    // Resume only results of this very executable made from this very request (and with map.ply
+    // when the suite asks for it); others (or an unreadable stats.json) are run again.
+    nlohmann::json previous = ReadJson(stats_path);
     const auto id = previous.is_object() ? previous.find("build_id") : previous.end();
     const bool same_build = BuildId() != kUnknownBuildId && previous.is_object() && id != previous.end() &&
                             id->is_string() && id->get<std::string>() == BuildId();
     const bool complete = !plan.suite.save_map || fs::exists(fs::path(run.out_dir) / "map.ply");
-    const bool resume = same_build && complete;
+    const bool resume = same_build && complete && ReadJson(request_path) == fingerprint;
     // A run that is (re)done redraws its pictures; a resumed one draws only a missing trajectory
     // plot or map picture (the keypoint strip needs the overlays of a run that is done).
     const bool want_strip = options.plots && run.repeat == 0 && !resume;
@@ -371,22 +441,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
         for (const char* suffix : {".png", ".svg", "_map.png", "_keypoints.png"})
           fs::remove(out / "plots" / (key + suffix), ec);
       }
-      RunRequest request;
-      request.dataset = seq.dataset;
-      request.config = run.mode->config.empty() ? seq.config : run.mode->config;
-      if (!run.mode->overlay.empty()) request.config_overlays = {run.mode->overlay};
-      request.out = run.out_dir;
-      request.mode = run.mode->name;
-      request.run_mode = plan.suite.run_mode;
-      request.pipeline = plan.suite.pipeline;
-      request.pipeline_depth = plan.suite.pipeline_depth;
-      request.front_end_threads = plan.suite.front_end_threads;
-      request.preload = plan.suite.preload;
-      request.save_map = plan.suite.save_map;
-      request.seed = run.seed;
-      request.frames = seq.frames;
-      request.models = options.models;
-      request.quiet = true;
+      fs::remove(request_path, ec);  // Written again once this run is complete.
       if (want_strip) {
         // Overlays of a few frames only: drawing them is part of the timed filter stage.
         request.overlays = (fs::path(run.out_dir) / "overlays").string();
@@ -394,6 +449,7 @@ nlohmann::json RunBench(const BenchOptions& options, const BenchPlan& plan) {
       }
       try {
         entry["stats"] = RunPipeline(request);
+        WriteFileAtomically(request_path, fingerprint.dump(1) + "\n");
         entry["status"] = "ok";
         for (const auto& warning : entry["stats"].value("warnings", nlohmann::json::array())) {
           std::cerr << "\nbench: run " << key << " seed " << run.seed

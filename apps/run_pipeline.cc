@@ -43,7 +43,33 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The configuration of a run: the system keys, the SLAM sections (`tracking:` refill_*,
+// `place_recognition:`, ...) and the mode's own section, bound to one schema.
+struct RunSchema {
+  explicit RunSchema(const std::string& mode_name) {
+    BindSystemConfig(&config, &schema);
+    BindSlamSections(&tracker_options, &mapper_options, &system_options, &vocabulary_path, &schema);
+    mode = MakeRunModeFactory(mode_name);
+    if (mode) mode->BindConfig(&schema);
+  }
+  RunSchema(const RunSchema&) = delete;
+  RunSchema& operator=(const RunSchema&) = delete;
+
+  SystemConfig config;
+  ConfigSchema schema;
+  TrackerOptions tracker_options;
+  LocalMapperOptions mapper_options;
+  SystemOptions system_options;
+  std::string vocabulary_path;
+  std::unique_ptr<RunModeFactory> mode;
+};
+
 }  // namespace
+
+void CheckRunConfigFiles(const std::string& mode, const std::vector<std::string>& files) {
+  RunSchema bound(mode);
+  bound.schema.LoadFiles(files);
+}
 
 nlohmann::json RunPipeline(const RunRequest& cli) {
   std::error_code dataset_error;
@@ -78,18 +104,16 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
                 << ", chosen by the folder's name); pass --config to use another\n";
     }
   }
-  // One schema: the system keys plus the chosen mode's own section.
-  SystemConfig config;
-  ConfigSchema schema;
-  BindSystemConfig(&config, &schema);
-  TrackerOptions tracker_options;
-  LocalMapperOptions mapper_options;
-  SystemOptions
-      system_options;  // The keys bound in `tracking:` (refill_*) and `place_recognition:`.
-  std::string vocabulary_path;
-  BindSlamSections(&tracker_options, &mapper_options, &system_options, &vocabulary_path, &schema);
-  std::unique_ptr<RunModeFactory> mode = MakeRunModeFactory(cli.mode);
-  if (mode) mode->BindConfig(&schema);
+  // One schema: the system keys plus the chosen mode's own section. (Declared before the System:
+  // the mode's factory outlives the filter it made.)
+  RunSchema bound(cli.mode);
+  SystemConfig& config = bound.config;
+  ConfigSchema& schema = bound.schema;
+  TrackerOptions& tracker_options = bound.tracker_options;
+  LocalMapperOptions& mapper_options = bound.mapper_options;
+  SystemOptions& system_options = bound.system_options;
+  const std::string& vocabulary_path = bound.vocabulary_path;
+  const std::unique_ptr<RunModeFactory>& mode = bound.mode;
   if (builtin_config) {
     schema.LoadString(builtin_config->yaml, config_path);
   } else {

@@ -40,4 +40,8 @@ struct RunRequest {
 // Throws InputError for bad input (nothing is written then, or only complete files).
 nlohmann::json RunPipeline(const RunRequest& request);
 
+// Reads `files` (YAML, in order) with the schema of a run in `mode` and throws InputError for an
+// unknown key or a bad value: what RunPipeline would refuse, found before any run (`dynorb bench`).
+void CheckRunConfigFiles(const std::string& mode, const std::vector<std::string>& files);
+
 }  // namespace dynorb

@@ -181,7 +181,7 @@ modes:
   - {name: mystery, optional: true}
 EOF
 OUT="$DIR/bench"
-run_bench() { "$DYNORB" bench --suite "$DIR/tiny.yaml" --out "$OUT" --people procedural --quiet "$@"; }
+run_bench() { "$DYNORB" bench --suite "$DIR/tiny.yaml" --out "$OUT" --people "${BENCH_PEOPLE:-procedural}" --quiet "$@"; }
 run_bench >"$DIR/run1.txt" 2>"$DIR/run1.err" || fail "tiny run 1: $(cat "$DIR/run1.err")"
 grep -qF "mode 'mystery' is not registered" "$DIR/run1.err" || fail "no warning for the optional mode"
 grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run1.txt" || fail "run 1 summary: $(cat "$DIR/run1.txt")"
@@ -542,6 +542,36 @@ grep -qE "runs: 6 \((4|5|6) resumed, 0 failed\)" "$DIR/run4.txt" || fail "run 4 
 for s in 1 2 3; do
   [[ -s "$OUT/runs/syn/plain/seed$s/stats.json" && -s "$OUT/runs/syn_twin/plain/seed$s/stats.json" ]] || fail "seed $s missing"
 done
+# Session 55: a run is resumed only when it was made from the same request (here the suite's
+# pipeline setting changed), and a cached sequence only when it shows the same people.
+sed -i 's/^front_end_threads: 2$/front_end_threads: 2\npipeline: false/' "$DIR/tiny.yaml"
+run_bench --repeats 1 >"$DIR/run5.txt" 2>&1 || fail "run 5: $(cat "$DIR/run5.txt")"
+grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run5.txt" || fail "another request resumed: $(cat "$DIR/run5.txt")"
+grep -q '"pipeline": false' "$OUT/runs/syn/plain/seed1/bench_request.json" || fail "bench_request.json"
+PEOPLE="$SRC/../shared/data/people"
+if [[ -d "$PEOPLE" ]]; then
+  BENCH_PEOPLE=$PEOPLE run_bench --repeats 1 >"$DIR/run6.txt" 2>&1 || fail "run 6: $(cat "$DIR/run6.txt")"
+  grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run6.txt" || fail "other people resumed: $(cat "$DIR/run6.txt")"
+  grep -qF "people_dir: '$PEOPLE'" "$OUT/cache/walking_xyz_s3_f14/scene.yaml" ||
+    fail "the cached sequence with procedural people was reused for --people $PEOPLE"
+fi
+# Refused before anything is written: a missing people folder, an overlay with an unknown key,
+# a seed listed twice.
+expect_bench_error() {
+  local expected=$1 out=$2
+  shift 2
+  local err
+  err=$("$DYNORB" bench --out "$out" --quiet "$@" 2>&1 >/dev/null) && fail "$*: exit code 0"
+  grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
+  [[ ! -e "$out" ]] || fail "$*: wrote $out"
+}
+expect_bench_error "people directory not found: /nonexistent/people" "$DIR/bp" --suite "$DIR/tiny.yaml" --people /nonexistent/people
+printf 'fast:\n  no_such_key: 3\n' >"$DIR/bad_overlay.yaml"
+sed 's|^  - plain$|  - {name: fast, overlay: bad_overlay.yaml}|' "$DIR/tiny.yaml" >"$DIR/bad_overlay_suite.yaml"
+expect_bench_error "no_such_key" "$DIR/bo" --suite "$DIR/bad_overlay_suite.yaml" --people procedural
+sed 's/^repeats: 1$/seeds: [4, 4]/' "$DIR/tiny.yaml" >"$DIR/dup_seeds.yaml"
+expect_bench_error "seed 4 is listed twice" "$DIR/ds" --suite "$DIR/dup_seeds.yaml" --people procedural
+
 if [[ -n "$ARTIFACTS" ]]; then
   rm -rf "$ARTIFACTS" && mkdir -p "$ARTIFACTS" && cp -r "$OUT/report.html" "$OUT/report.md" "$OUT/results.json" "$OUT/plots" "$ARTIFACTS/"
 fi

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -163,7 +164,13 @@ class Parser {
     if (const YAML::Node seeds = root["seeds"]) {
       if (!seeds.IsSequence() || seeds.size() == 0)
         Fail(seeds, "'seeds' expects a non-empty list of integers");
-      for (const auto& s : seeds) suite.seeds.push_back(Seed(s, "seeds"));
+      for (const auto& s : seeds) {
+        const uint64_t seed = Seed(s, "seeds");
+        // Two runs with one seed would share one output folder.
+        if (std::find(suite.seeds.begin(), suite.seeds.end(), seed) != suite.seeds.end())
+          Fail(s, "seed " + std::to_string(seed) + " is listed twice in 'seeds'");
+        suite.seeds.push_back(seed);
+      }
     }
     if (root["run_mode"]) {
       suite.run_mode = Str(root["run_mode"], "run_mode");

@@ -169,6 +169,8 @@ TEST(BenchSuite, BadSuitesNameFileAndLine) {
               HasSubstr("suite.yaml:2: 'frames' must be >= 1"));
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, synthetic: {preset: p, frames: many}}\n" + modes),
               HasSubstr("'frames' expects an integer, got 'many'"));
+  EXPECT_THAT(ErrorOf("seeds: [1, 2,\n  1]\nsequences:\n  - {name: a, path: /x}\n" + modes),
+              HasSubstr("suite.yaml:2: seed 1 is listed twice in 'seeds'"));
   // A sequence's frame range is checked when the suite is read, not when its run starts.
   EXPECT_THAT(ErrorOf("sequences:\n  - {name: a, path: /x,\n     frames: abc}\n" + modes),
               HasSubstr("suite.yaml:3: 'frames' expects A:B (e.g. 0:300 or 100:), got 'abc'"));
