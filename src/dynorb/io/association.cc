@@ -5,6 +5,7 @@
 #include "dynorb/core/error.h"
 #include "dynorb/core/stamp_association.h"
 #include "dynorb/io/text_lines.h"
+#include "dynorb/io/timestamp_check.h"
 
 namespace dynorb {
 namespace {
@@ -43,6 +44,7 @@ std::vector<StampedPath> ReadImageList(const std::string& path) {
           "expected 'timestamp path', got " + std::to_string(fields.size()) + " fields");
     }
     const double stamp = ParseDouble(fields[0], path, line_no);
+    CheckTimestampRange(stamp, fields[0], path, line_no);
     CheckIncreasing(path, line_no, list.empty() ? 0.0 : list.back().timestamp_s, stamp,
                     !list.empty());
     list.push_back({stamp, fields[1]});
@@ -60,8 +62,10 @@ std::vector<AssociatedPair> ReadAssociationsFile(const std::string& path) {
     }
     AssociatedPair pair;
     pair.rgb_timestamp_s = ParseDouble(fields[0], path, line_no);
+    CheckTimestampRange(pair.rgb_timestamp_s, fields[0], path, line_no);
     pair.rgb_path = fields[1];
     pair.depth_timestamp_s = ParseDouble(fields[2], path, line_no);
+    CheckTimestampRange(pair.depth_timestamp_s, fields[2], path, line_no);
     pair.depth_path = fields[3];
     CheckIncreasing(path, line_no, pairs.empty() ? 0.0 : pairs.back().rgb_timestamp_s,
                     pair.rgb_timestamp_s, !pairs.empty());

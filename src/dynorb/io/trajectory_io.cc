@@ -8,6 +8,7 @@
 #include "dynorb/core/error.h"
 #include "dynorb/io/atomic_file.h"
 #include "dynorb/io/text_lines.h"
+#include "dynorb/io/timestamp_check.h"
 
 namespace dynorb {
 namespace {
@@ -28,6 +29,7 @@ Trajectory ReadTumTrajectory(const std::string& path, const TrajectoryReadOption
     }
     double v[8];
     for (int i = 0; i < 8; ++i) v[i] = ParseDouble(fields[i], path, line_no);
+    CheckTimestampRange(v[0], fields[0], path, line_no);
     for (int i = 1; i <= 3; ++i) {
       if (std::abs(v[i]) > kMaxPositionM) {
         throw InputErrorAt(

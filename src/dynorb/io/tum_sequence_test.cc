@@ -162,6 +162,9 @@ TEST_F(TumSequenceTest, BadListsAndFolders) {
   ExpectInputError([&] { TumSequence s(folder()); }, "rgb.txt:2: not a number");
   WriteText("rgb.txt", "1.0 rgb/0.png\n1.0 rgb/1.png\n");
   ExpectInputError([&] { TumSequence s(folder()); }, "rgb.txt:2: duplicate timestamp");
+  WriteText("rgb.txt", "1.0 rgb/0.png\n-2e12 rgb/1.png\n");
+  ExpectInputError([&] { TumSequence s(folder()); },
+                   "rgb.txt:2: timestamp '-2e12' is beyond +-1e12 s");
   WriteText("rgb.txt", good_rgb);
   WriteText("depth.txt", "2.0 depth/0.png\n\n1.0 depth/1.png\n");
   ExpectInputError([&] { TumSequence s(folder()); }, "depth.txt:3: timestamps are not increasing");
@@ -192,6 +195,10 @@ TEST_F(TumSequenceTest, BadAssociationsAndGroundTruth) {
                    "groundtruth.txt:2: timestamps are not increasing");
   WriteText("groundtruth.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0\n");
   ExpectInputError([&] { TumSequence s(folder()); }, "groundtruth.txt:2: expected 8 values");
+  // Timestamps are seconds: 1e250 would fail only when the trajectory is written, after the run.
+  WriteText("groundtruth.txt", "1.0 0 0 0 0 0 0 1\n1e250 0 0 0 0 0 0 1\n");
+  ExpectInputError([&] { TumSequence s(folder()); },
+                   "groundtruth.txt:2: timestamp '1e250' is beyond +-1e12 s");
   TumSequenceOptions no_gt;
   no_gt.load_ground_truth = false;
   EXPECT_FALSE(TumSequence(folder(), no_gt).HasGroundTruth());
