@@ -71,6 +71,26 @@ TEST(PoseGraph, ALoopEdgeSpreadsTheDriftOfAnOdometryChain) {
   EXPECT_LT(CentreError(poses[19], CircleCamera(19)), drifted / 5.0);
 }
 
+// An edge whose measurement is 179 degrees from the estimate is corrected. (At exactly 180
+// degrees, the cut locus of SO(3), every smooth rotation residual - 2 x vec(q) here, angle x axis
+// alike - has its first-order change orthogonal to the residual, so Gauss-Newton steps stay
+// there; checked in session 55. A loop edge's estimate comes from tracking, far from that.)
+TEST(PoseGraph, AnEdgeHalfATurnOffIsCorrected) {
+  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(Eigen::Vector3d::UnitY()),
+                                      Eigen::Vector3d(Eigen::Vector3d(1, 2, 3).normalized())}) {
+    const Rigid3d truth = CircleCamera(1);  // b_from_a with a at the origin
+    std::map<uint64_t, Rigid3d> poses;
+    poses[0] = Rigid3d();
+    poses[1] = Rigid3d(truth.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI - 0.02, axis)),
+                       truth.translation);
+    const PoseGraphResult r = OptimizePoseGraph(&poses, {{0, 1, truth}}, {0});
+    EXPECT_GT(r.initial_cost, 1.0);
+    EXPECT_LT(r.final_cost, 1e-12) << axis.transpose();
+    EXPECT_LT(RotationAngleRad(poses[1].rotation * truth.rotation.conjugate()), 1e-6);
+    EXPECT_LT((poses[1].translation - truth.translation).norm(), 1e-6);
+  }
+}
+
 TEST(PoseGraph, NoEdgesChangeNothing) {
   std::map<uint64_t, Rigid3d> poses{{1, CircleCamera(1)}, {2, CircleCamera(2)}};
   const PoseGraphResult r = OptimizePoseGraph(&poses, {}, {});
