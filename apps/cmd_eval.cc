@@ -3,10 +3,13 @@
 // Output files are opened (validated) before the work and committed atomically at the end, so a
 // failed run leaves no output file behind. Definitions: docs/evaluation.md.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
+#include <utility>
 
 #include "command_registry.h"
 #include "dynorb/core/error.h"
@@ -30,6 +33,31 @@ struct EvalCliOptions {
   std::string plot_path;
 };
 
+// True when a and b name the same file: the same path once made absolute and normalised
+// ("./r.txt", "d/../r.txt"), or, when both exist, the same file (a link, another spelling).
+bool SameFile(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec_a, ec_b, ec;
+  const fs::path normal_a = fs::absolute(a, ec_a).lexically_normal();
+  const fs::path normal_b = fs::absolute(b, ec_b).lexically_normal();
+  if (a == b || (!ec_a && !ec_b && normal_a == normal_b)) return true;
+  return fs::equivalent(a, b, ec);  // false unless both exist
+}
+
+// An output that names an input would overwrite it: refused before anything is written.
+void CheckOutputIsNotAnInput(const std::string& option, const std::string& output,
+                             const EvalCliOptions& cli) {
+  if (output.empty()) return;
+  const std::pair<const char*, std::string> inputs[] = {{"--gt", cli.gt_path},
+                                                        {"--est", cli.est_path}};
+  for (const auto& [input_option, input] : inputs) {
+    if (SameFile(output, input)) {
+      throw InputError(option + " " + output + " names the same file as " + input_option + " " +
+                       input + ": it would overwrite the input");
+    }
+  }
+}
+
 bool EndsWith(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() &&
          text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -46,8 +74,10 @@ void RunEval(const EvalCliOptions& cli) {
   if (!cli.plot_path.empty() && !plot_svg && !EndsWith(cli.plot_path, ".png")) {
     throw InputError("--plot must name a .png or .svg file, got '" + cli.plot_path + "'");
   }
-  if (!cli.json_path.empty() && cli.json_path == cli.plot_path)
+  if (!cli.json_path.empty() && !cli.plot_path.empty() && SameFile(cli.json_path, cli.plot_path))
     throw InputError("--json and --plot name the same file");
+  CheckOutputIsNotAnInput("--json", cli.json_path, cli);
+  CheckOutputIsNotAnInput("--plot", cli.plot_path, cli);
 
   // Open outputs first: an unwritable path fails before any work, and nothing is left behind.
   std::unique_ptr<AtomicFile> json_file, plot_file;

@@ -29,7 +29,11 @@ struct Similarity3d {
   }
 };
 
-// Columns are corresponding points. Needs >= 3 points for se3/sim3 (throws InputError).
+// Columns are corresponding points. Needs >= 3 points for se3/sim3 (throws InputError). Also
+// throws InputError when the estimate positions have no spread (rms distance to their mean at
+// most 1e-12 of their largest coordinate: one point, wherever it lies), and for sim3 when the
+// ground-truth positions have none or do not correlate with the estimate (scale ~0). se3 with a
+// ground truth that has no spread is defined (any rotation gives the same errors).
 Similarity3d AlignPositions(const Eigen::Matrix3Xd& est_positions,
                             const Eigen::Matrix3Xd& gt_positions, AlignmentMode mode);
 

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "dynorb/core/error.h"
+#include "dynorb/core/test_expect_error.h"
 
 namespace dynorb {
 namespace {
@@ -107,6 +108,56 @@ TEST(Alignment, RejectsTooFewOrDegeneratePoints) {
   EXPECT_THROW(AlignPositions(two, two, AlignmentMode::kSe3), InputError);
   const Eigen::Matrix3Xd same = Eigen::Vector3d(1, 2, 3).replicate(1, 5);
   EXPECT_THROW(AlignPositions(same, same, AlignmentMode::kSim3), InputError);
+}
+
+// sim3 with a ground truth that has no spread, or whose motion does not correlate with the
+// estimate's, has scale 0 (and used to give a NaN rotation): refused with a clear message.
+TEST(Alignment, Sim3RefusesAGroundTruthWithoutSpreadOrCorrelation) {
+  Eigen::Matrix3Xd est(3, 3), flat(3, 3), uncorrelated(3, 3);
+  est << -1, 0, 1, 0.5, 0, -0.5, 0, 0, 0;
+  flat = Eigen::Vector3d(4, 5, 6).replicate(1, 3);
+  // Centred, gt x = (1, -2, 1) / 3 is orthogonal to every row of est: a zero cross-covariance.
+  uncorrelated << 1, 0, 1, 0, 0, 0, 2, 2, 2;
+  for (const Eigen::Matrix3Xd* gt : {&flat, &uncorrelated}) {
+    dynorb::testing::ExpectInputError([&] { AlignPositions(est, *gt, AlignmentMode::kSim3); },
+                                      "the ground-truth positions have no spread, or do not "
+                                      "correlate with the estimate: no sim3 alignment");
+    // se3 is defined: every rotation gives the same errors.
+    const Similarity3d s = AlignPositions(est, *gt, AlignmentMode::kSe3);
+    EXPECT_TRUE(s.rotation.allFinite());
+    EXPECT_NEAR(s.rotation.determinant(), 1.0, 1e-12);
+  }
+}
+
+// "All estimate positions identical" is relative to the coordinates' magnitude: 500 identical
+// poses far from the origin (UTM-like) used to pass an absolute 1e-20 test and give a 180 deg
+// alignment.
+TEST(Alignment, IdenticalPositionsFarFromTheOriginAreRefused) {
+  const Eigen::Matrix3Xd same = Eigen::Vector3d(500000.123, 5400000.456, 100.789).replicate(1, 500);
+  std::mt19937_64 rng(4);
+  const Eigen::Matrix3Xd moving = RandomPoints(rng, 500);
+  for (AlignmentMode mode : {AlignmentMode::kSe3, AlignmentMode::kSim3}) {
+    dynorb::testing::ExpectInputError([&] { AlignPositions(same, moving, mode); },
+                                      "all associated estimate positions are identical");
+  }
+  dynorb::testing::ExpectInputError([&] { AlignPositions(moving, same, AlignmentMode::kSim3); },
+                                    "no sim3 alignment");
+}
+
+// A real trajectory far from the origin still aligns (and precisely: the solver works relative
+// to the first point).
+TEST(Alignment, AlignsATrajectoryFarFromTheOrigin) {
+  std::mt19937_64 rng(5);
+  const Eigen::Vector3d far(500000.123, 5400000.456, 100.789);
+  const Eigen::Matrix3Xd gt = RandomPoints(rng, 200).colwise() + far;
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3Xd est = r.transpose() * (gt.colwise() - far);  // gt = R est + far
+  for (AlignmentMode mode : {AlignmentMode::kSe3, AlignmentMode::kSim3}) {
+    const Similarity3d s = AlignPositions(est, gt, mode);
+    EXPECT_LT((s.rotation - r).norm(), 1e-9);
+    EXPECT_NEAR(s.scale, 1.0, 1e-9);
+    EXPECT_LT((s.translation - far).norm(), 1e-6);
+  }
 }
 
 }  // namespace

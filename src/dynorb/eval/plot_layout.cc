@@ -250,6 +250,7 @@ PlotCanvas LayoutEvalFigure(const Trajectory& gt, const Trajectory& est, const E
   const double t0 = gt.front().timestamp_s;
   e.u.Include(0.0);
   e.u.Include(gt.back().timestamp_s - t0);
+  e.u.Pad(0.0, 0.1);  // one ground-truth pose: zero span, centred on 0 (lo = 0 otherwise)
   e.v.Include(0.0);
   for (double err : result.ate.errors_m) e.v.Include(err);
   e.v.hi = std::max(e.v.hi, 1e-3) * 1.08;

@@ -132,7 +132,8 @@ std::string FormatReportJson(const EvalResult& r, const ReportInputs& inputs) {
               {"rot_deg", StatsJson(r.rpe.rot_deg)},
               {"trans_paper_form_m", StatsJson(r.rpe.trans_paper_form_m)}};
   j["warnings"] = r.warnings;
-  return j.dump(2) + "\n";
+  // A label (a file path) need not be UTF-8: invalid bytes become U+FFFD instead of throwing.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace dynorb

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <regex>
 
 #include "dynorb/eval/plot.h"
 #include "dynorb/eval/trajectory_generator.h"
@@ -52,6 +54,17 @@ TEST(Report, JsonMatchesResult) {
   EXPECT_TRUE(j["warnings"].empty());
 }
 
+// A file path need not be UTF-8 (Latin-1 names on Linux): the JSON replaces the bad bytes with
+// U+FFFD instead of throwing nlohmann's type_error 316.
+TEST(Report, JsonTakesANonUtf8Label) {
+  const Fixture f = Make();
+  std::string text;
+  ASSERT_NO_THROW(text = FormatReportJson(f.result, {"gt_caf\xE9.txt", "est.txt"}));
+  const nlohmann::json j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["inputs"]["groundtruth"], "gt_caf\xEF\xBF\xBD.txt");
+  EXPECT_EQ(j["inputs"]["estimate"], "est.txt");
+}
+
 TEST(Report, LowCoverageWarnsInTable) {
   Fixture f = Make(0.0);
   Trajectory est;
@@ -96,6 +109,37 @@ TEST(Plot, PngAndSvgDrawTheSameLayout) {
     ++polylines;
   EXPECT_EQ(polylines, canvas.base.lines.size() + canvas.overlay.lines.size());
   EXPECT_NE(svg.find("top view (x-y)"), std::string::npos);
+}
+
+// One ground-truth pose (possible with --align none): the error panel's time axis spans 0 s and
+// used to map every point to NaN.
+TEST(Plot, OneGroundTruthPoseGivesNoNan) {
+  Trajectory gt(1), est(1);
+  gt[0].timestamp_s = est[0].timestamp_s = 5.0;
+  gt[0].world_from_cam.translation = Eigen::Vector3d(1.0, 2.0, 3.0);
+  est[0].world_from_cam.translation = Eigen::Vector3d(1.1, 2.0, 3.0);
+  EvalOptions options;
+  options.alignment = AlignmentMode::kNone;
+  const EvalResult result = EvaluateTrajectories(gt, est, options);
+  const PlotCanvas canvas = LayoutEvalFigure(gt, est, result);
+  for (const PlotLayer* layer : {&canvas.base, &canvas.overlay}) {
+    for (const PlotPolyline& line : layer->lines) {
+      for (const Eigen::Vector2d& p : line.points_px) {
+        EXPECT_TRUE(p.allFinite());
+        EXPECT_TRUE(p.x() >= 0 && p.x() <= canvas.width_px && p.y() >= 0 &&
+                    p.y() <= canvas.height_px);
+      }
+    }
+    for (const PlotRect& r : layer->rects) {
+      EXPECT_TRUE(std::isfinite(r.x) && std::isfinite(r.y) && std::isfinite(r.width) &&
+                  std::isfinite(r.height));
+    }
+    for (const PlotText& t : layer->texts) EXPECT_TRUE(t.anchor_px.allFinite()) << t.text;
+  }
+  const std::string svg = RenderPlotSvg(canvas);
+  // "nan"/"inf" as a printed number, not inside a word ("dominant-baseline").
+  EXPECT_FALSE(std::regex_search(svg, std::regex("(^|[^a-z])-?(nan|inf)([^a-z]|$)")));
+  EXPECT_FALSE(RenderPlotPng(canvas).empty());
 }
 
 TEST(TrajectoryGenerator, DeterministicAndAsSpecified) {

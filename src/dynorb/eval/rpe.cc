@@ -23,6 +23,13 @@ double Median(std::vector<double> values) {
   return 0.5 * (lower + upper);
 }
 
+// Differences of consecutive stamps.
+std::vector<double> Intervals(const std::vector<double>& stamps) {
+  std::vector<double> intervals;
+  for (size_t k = 0; k + 1 < stamps.size(); ++k) intervals.push_back(stamps[k + 1] - stamps[k]);
+  return intervals;
+}
+
 }  // namespace
 
 void RpeOptions::Validate() const {
@@ -35,11 +42,26 @@ void RpeOptions::Validate() const {
 }
 
 size_t ClosestIndex(const std::vector<double>& sorted_stamps, double t) {
-  const auto it = std::lower_bound(sorted_stamps.begin(), sorted_stamps.end(), t);
-  if (it == sorted_stamps.begin()) return 0;
-  if (it == sorted_stamps.end()) return sorted_stamps.size() - 1;
-  const size_t hi = static_cast<size_t>(it - sorted_stamps.begin());
-  return std::abs(t - sorted_stamps[hi - 1]) <= std::abs(sorted_stamps[hi] - t) ? hi - 1 : hi;
+  // evaluate_rpe.py's find_closest_index, step by step: a bisection that keeps the first visited
+  // stamp strictly closer than the best so far (starting from index 0), so an exact tie goes to
+  // whichever of the two stamps the bisection visits first.
+  if (sorted_stamps.empty()) return 0;
+  size_t begin = 0, end = sorted_stamps.size(), best = 0;
+  double difference = std::abs(sorted_stamps[0] - t);
+  while (begin < end) {
+    const size_t middle = (begin + end) / 2;
+    if (std::abs(sorted_stamps[middle] - t) < difference) {
+      difference = std::abs(sorted_stamps[middle] - t);
+      best = middle;
+    }
+    if (t == sorted_stamps[middle]) return middle;
+    if (sorted_stamps[middle] > t) {
+      end = middle;
+    } else {
+      begin = middle + 1;
+    }
+  }
+  return best;
 }
 
 RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptions& options) {
@@ -48,16 +70,20 @@ RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptio
   if (gt.size() < 2 || est.size() < 2) return result;
   const std::vector<double> gt_stamps = Stamps(gt);
   const std::vector<double> est_stamps = Stamps(est);
-  std::vector<double> gt_intervals(gt_stamps.size() - 1);
-  for (size_t k = 0; k + 1 < gt_stamps.size(); ++k)
-    gt_intervals[k] = gt_stamps[k + 1] - gt_stamps[k];
-  result.gt_max_time_difference_s = 2.0 * Median(std::move(gt_intervals));
+  result.gt_max_time_difference_s = 2.0 * Median(Intervals(gt_stamps));
 
   const size_t last = est_stamps.size() - 1;
   std::vector<double> trans, rot_deg, trans_paper;
+  size_t self_pairs = 0, other_pairs = 0;
   for (size_t i = 0; i < est_stamps.size(); ++i) {
     const size_t j = ClosestIndex(est_stamps, est_stamps[i] + options.delta_s);
     if (j == last) continue;
+    // evaluate_rpe.py would pair pose i with itself (a perfect 0): not a pair delta_s apart.
+    if (j == i) {
+      ++self_pairs;
+      continue;
+    }
+    ++other_pairs;
     const double t_i = est_stamps[i] + options.offset_s;
     const double t_j = est_stamps[j] + options.offset_s;
     const size_t gi = ClosestIndex(gt_stamps, t_i);
@@ -84,6 +110,14 @@ RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptio
     trans.push_back(pair.trans_m);
     rot_deg.push_back(pair.rot_rad * kDegPerRad);
     trans_paper.push_back(pair.trans_paper_form_m);
+  }
+  if (other_pairs == 0 && self_pairs > 0) {
+    throw InputError("RPE delta " + ShortNumber(options.delta_s) +
+                     " s is shorter than the estimate's frame interval (median " +
+                     ShortNumber(Median(Intervals(est_stamps))) + " s): the pose closest to " +
+                     ShortNumber(options.delta_s) +
+                     " s after each pose is the pose itself, so there is no pose pair; use a "
+                     "longer --rpe-delta");
   }
   result.trans_m = Summarize(std::move(trans));
   result.rot_deg = Summarize(std::move(rot_deg));

@@ -3,8 +3,10 @@
 // (Sturm et al., IROS 2012), the setting papers report as "RPE per second":
 //
 //  1. Pairs (i, j) of ESTIMATE poses: for every estimate pose i, j is the estimate pose whose
-//     stamp is closest to t_i + delta_s (exact ties: the earlier pose). The pair is dropped when
-//     j is the last estimate pose (evaluate_rpe.py's rule for "t_i + delta beyond the end").
+//     stamp is closest to t_i + delta_s (exact ties broken as evaluate_rpe.py's bisection does,
+//     see ClosestIndex). The pair is dropped when j is the last estimate pose (evaluate_rpe.py's
+//     rule for "t_i + delta beyond the end"), and, unlike evaluate_rpe.py, when j = i (delta_s
+//     shorter than about half the frame interval): a pose paired with itself has a 0 error.
 //  2. Each of t_i, t_j is matched to its closest ground-truth stamp (closest to t + offset_s;
 //     not one-to-one); the pair is dropped if either stamp difference exceeds
 //     2 x the median ground-truth stamp interval.
@@ -46,9 +48,13 @@ struct RpeResult {
 };
 
 // Returns an empty result (count 0) if no pair qualifies, e.g. a trajectory shorter than delta.
+// Throws InputError when delta_s is so short that every candidate pair is a pose with itself.
 RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptions& options);
 
-// Index of the stamp closest to t in a sorted vector (exact ties: the smaller index).
+// Index of the stamp closest to t in a sorted vector: evaluate_rpe.py's find_closest_index, a
+// bisection that keeps the first visited stamp strictly closer than the best so far (index 0
+// first). Exact ties depend on the bisection's path: {0, 1, 2} and 0.5 give 0, {0, 1, 2, 3} and
+// 1.5 give 2.
 size_t ClosestIndex(const std::vector<double>& sorted_stamps, double t);
 
 }  // namespace dynorb

@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "dynorb/core/angles.h"
+#include "dynorb/core/test_expect_error.h"
+#include "dynorb/eval/association.h"
 #include "dynorb/eval/test_util.h"
 
 namespace dynorb {
@@ -106,12 +108,49 @@ TEST(Rpe, ScriptAndPaperFormsDifferOnlyInTranslation) {
   EXPECT_GT(std::abs(r.trans_m.rmse - r.trans_paper_form_m.rmse), 1e-6);
 }
 
-TEST(Rpe, ClosestIndexTiesPickTheEarlierStamp) {
+TEST(Rpe, ClosestIndexBreaksTiesAsEvaluateRpeDoes) {
   const std::vector<double> s = {0.0, 1.0, 2.0};
   EXPECT_EQ(ClosestIndex(s, 0.5), 0u);
   EXPECT_EQ(ClosestIndex(s, 0.6), 1u);
   EXPECT_EQ(ClosestIndex(s, -5.0), 0u);
   EXPECT_EQ(ClosestIndex(s, 9.0), 2u);
+  EXPECT_EQ(ClosestIndex(s, 1.0), 1u);
+  // evaluate_rpe.py's find_closest_index bisects 0..3: it visits 2 (0.5 away) before 1 (as far),
+  // and keeps 2; in 0..2 above it visits 1 first (not closer than index 0) and keeps 0.
+  const std::vector<double> four = {0.0, 1.0, 2.0, 3.0};
+  EXPECT_EQ(ClosestIndex(four, 1.5), 2u);
+  EXPECT_EQ(ClosestIndex(four, 0.5), 0u);
+  EXPECT_EQ(ClosestIndex(four, 2.5), 2u);
+}
+
+// A pose is never paired with itself. Poses 2 s apart and delta 1 s: t_i + 1 s lies exactly
+// between pose i and pose i + 1; pairing i with itself used to give a perfect 0.
+TEST(Rpe, NeverPairsAPoseWithItself) {
+  Trajectory gt(20), est(20);
+  for (int k = 0; k < 20; ++k) {
+    gt[k].timestamp_s = est[k].timestamp_s = 2.0 * k;
+    gt[k].world_from_cam.translation = Eigen::Vector3d(0.5 * k, 0.0, 0.0);
+    est[k].world_from_cam.translation = Eigen::Vector3d(0.6 * k, 0.0, 0.0);  // 0.1 m per pose
+  }
+  const RpeResult r = ComputeRpe(gt, est, RpeOptions());
+  ASSERT_FALSE(r.pairs.empty());
+  for (const RpePair& p : r.pairs) {
+    EXPECT_EQ(p.est_j, p.est_i + 1);
+    EXPECT_EQ(p.est_j, static_cast<int>(ClosestIndex(Stamps(est), 2.0 * p.est_i + 1.0)));
+  }
+  EXPECT_NEAR(r.trans_m.min, 0.1, 1e-12);
+}
+
+// A delta much shorter than the frame interval leaves only poses paired with themselves.
+TEST(Rpe, DeltaShorterThanTheFrameIntervalIsRefused) {
+  const Trajectory gt = Wiggle(50, 10.0);
+  RpeOptions options;
+  options.delta_s = 0.02;
+  dynorb::testing::ExpectInputError([&] { ComputeRpe(gt, gt, options); },
+                                    "RPE delta 0.02 s is shorter than the estimate's frame "
+                                    "interval (median 0.1 s)");
+  options.delta_s = 0.08;  // closest to t_i + 0.08 s is pose i + 1
+  EXPECT_EQ(ComputeRpe(gt, gt, options).pairs.size(), 48u);
 }
 
 TEST(Rpe, ShortTrajectoryGivesEmptyResult) {
