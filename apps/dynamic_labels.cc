@@ -222,7 +222,13 @@ void KeypointLabelStats::Add(const KeypointTruth& truth, const std::vector<bool>
 }
 
 nlohmann::json KeypointLabelStats::ToJson() const {
-  auto ratio = [](long long a, long long b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
+  // An undefined ratio (nothing to divide by: no keypoint removed, none on a mover) is null.
+  auto ratio = [](long long a, long long b) {
+    return b > 0 ? nlohmann::json(static_cast<double>(a) / b) : nlohmann::json();
+  };
+  auto mean = [](const std::vector<double>& values) {
+    return values.empty() ? nlohmann::json() : nlohmann::json(Summarize(values).mean);
+  };
   nlohmann::json by_object = nlohmann::json::object();
   for (size_t id = 1; id < object_tp_.size(); ++id) {
     if (object_tp_[id] + object_fn_[id] == 0) continue;
@@ -254,11 +260,12 @@ nlohmann::json KeypointLabelStats::ToJson() const {
          "truth = keypoint on an object pixel or its FAST circle at its pyramid level (radius 3 * "
          "scale_factor^octave px) touches an object: the corner is the object's outline and moves "
          "with it"}}},
-      {"mean_frame_precision", Summarize(frame_precision_).mean},
-      {"mean_frame_recall", Summarize(frame_recall_).mean},
+      {"mean_frame_precision", mean(frame_precision_)},
+      {"mean_frame_recall", mean(frame_recall_)},
       {"definition",
        "positive = keypoint removed as dynamic; truth = keypoint on a pixel of a moving-object "
-       "mask (id != 0); totals over all frames with masks; precision_within_3px also counts a "
+       "mask (id != 0); totals over the frames with masks that the filter judged (a first frame "
+       "withheld whole is not); an undefined ratio is null; precision_within_3px also counts a "
        "removed keypoint within 3 px of an object (its FAST circle touches the object's outline) "
        "as correct; by_object: the keypoints on each object id of the mask, removed "
        "(true_positive) and kept (false_negative)"}};

@@ -210,6 +210,7 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
     prefetcher = std::make_unique<Prefetcher<LoadedFrame>>(last - first, load);
   }
   const double cpu_start = ProcessCpuSeconds();
+  double overlay_write_wall_s = 0.0, overlay_write_cpu_s = 0.0;  // --save-overlays' image files
   auto next_loaded = [&](size_t i) {
     return cli.preload ? std::move(preloaded[i - first]) : prefetcher->Next();
   };
@@ -222,7 +223,13 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   std::deque<LoadedFrame> upcoming;
   // The ground-truth statistics of one frame (its record, its masks).
   auto account = [&](const FrameRecord& record, const cv::Mat& mask, const cv::Mat& still) {
-    // Every frame counts here, judged or not: a mover the pose rests on is a mover.
+    // Every frame with a mask counts here, judged or not: a mover the pose rests on is a mover.
+    // A frame without one is unknown (-1 in frames.csv), not "none on movers".
+    if (mask.empty()) {
+      inliers_on_movers.push_back(-1);
+      new_landmarks_on_movers.push_back(-1);
+      return;
+    }
     const KeypointsOnObjects on = CountOnObjects(record.inliers, mask, still, level_scale);
     const KeypointsOnObjects created = CountOnObjects(record.new_landmarks, mask, still, level_scale);
     inliers_on_movers.push_back(on.pixel);
@@ -282,12 +289,18 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
       }
     }
     if (save_overlay) {
+      // Drawing and encoding the image is not part of the run's time (wall and CPU): this
+      // thread's share is taken off (the filter's own drawing stays in its stage time).
+      const Stopwatch write_watch;
+      const double write_cpu_start = ThreadCpuSeconds();
       const cv::Mat base = record.filter_overlay.empty() ? frame.rgb : record.filter_overlay;
       char name[32];
       std::snprintf(name, sizeof(name), "%06zu.png", i);
       const std::string overlay_path = (fs::path(cli.overlays) / name).string();
       if (!cv::imwrite(overlay_path, DrawKeypointOverlay(base, record.detected, record.keep)))
         throw InputError("cannot write overlay " + overlay_path);
+      overlay_write_wall_s += write_watch.ElapsedMs() / 1000.0;
+      overlay_write_cpu_s += ThreadCpuSeconds() - write_cpu_start;
     }
     if (!cli.quiet) {
       const int done = static_cast<int>(i - first + 1);
@@ -310,8 +323,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   inputs.front_end_threads = cli.pipeline ? system.front_end_threads() : 0;
   inputs.seed = cli.seed;
   inputs.first_frame = first;
-  inputs.wall_seconds = wall.ElapsedMs() / 1000.0;
-  inputs.cpu_seconds = ProcessCpuSeconds() - cpu_start;
+  inputs.wall_seconds = wall.ElapsedMs() / 1000.0 - overlay_write_wall_s;
+  inputs.cpu_seconds = ProcessCpuSeconds() - cpu_start - overlay_write_cpu_s;
+  inputs.overlay_write_seconds = overlay_write_wall_s;
   for (size_t k = 0; k < deferred.size(); ++k) account(system.records()[k], deferred[k].mask, deferred[k].still);
   inputs.preload = cli.preload;
   inputs.preload_seconds = preload_seconds;
@@ -381,6 +395,12 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
         "(origin_known), "
         "those whose keypoint there lay on a dynamic object of the ground-truth masks (moving at "
         "that frame or not)";
+    if (!cue_stats.empty()) {
+      stats["dynamic_keypoints"]["by_cue_definition"] =
+          "per cue of the filter: the keypoints it flagged as moving, judged against the "
+          "moving-now "
+          "truth of moving_now (objects standing still at the frame ignored)";
+    }
     for (const auto& [cue, cue_labels] : cue_stats) {
       const nlohmann::json all = cue_labels.ToJson();
       stats["dynamic_keypoints"]["by_cue"][cue] = {{"flagged", all["true_positive"].get<long long>() +
@@ -410,7 +430,9 @@ nlohmann::json RunPipeline(const RunRequest& cli) {
   WriteTumTrajectory((fs::path(cli.out) / "trajectory.txt").string(), trajectory);
   WriteTumTrajectory((fs::path(cli.out) / "keyframes.txt").string(), system.KeyframeTrajectory());
   schema.Write((fs::path(cli.out) / "effective_config.yaml").string());
-  WriteFileAtomically((fs::path(cli.out) / "frames.csv").string(), FramesCsv(system.records(), inliers_on_movers, new_landmarks_on_movers));
+  WriteFileAtomically(
+      (fs::path(cli.out) / "frames.csv").string(),
+      FramesCsv(system.records(), inliers_on_movers, new_landmarks_on_movers, first));
   // map.ply next to this run's outputs only: an earlier run's is removed.
   const fs::path map_path = fs::path(cli.out) / "map.ply";
   if (map_cloud) {

@@ -11,6 +11,14 @@
 
 namespace dynorb {
 
+// "0.123", or "n/a" for an undefined ratio (null: nothing to divide by).
+std::string Fraction(const nlohmann::json& value) {
+  if (!value.is_number()) return "n/a";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3f", value.get<double>());
+  return text;
+}
+
 nlohmann::json StatsJson(const std::vector<double>& values) {
   const SummaryStats s = Summarize(values);
   return {{"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}, {"count", s.count}};
@@ -40,8 +48,9 @@ EvalResult EvaluateAgainstGroundTruth(const Trajectory& ground_truth, const Traj
   return EvaluateTrajectories(cropped, estimate, options);
 }
 
-std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers,
-                      const std::vector<int>& new_landmarks_on_movers) {
+std::string FramesCsv(const std::vector<FrameRecord>& records,
+                      const std::vector<int>& inliers_on_movers,
+                      const std::vector<int>& new_landmarks_on_movers, size_t first_frame) {
   std::string csv =
       "frame,timestamp,state,relocalized,new_keyframe,reference_keyframe,keypoints,filtered,"
       "refilled,inliers,judged,detect_ms,filter_ms,refill_ms,describe_ms,track_ms,local_map_ms,"
@@ -53,8 +62,8 @@ std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector
     std::snprintf(
         line, sizeof(line),
         "%zu,%.6f,%s,%d,%d,%lld,%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d\n",
-        static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state), r.relocalized ? 1 : 0,
-        r.new_keyframe ? 1 : 0,
+        first_frame + static_cast<size_t>(r.id), r.timestamp_s, ToString(r.state),
+        r.relocalized ? 1 : 0, r.new_keyframe ? 1 : 0,
         r.reference_keyframe == kNoKeyframe ? -1LL : static_cast<long long>(r.reference_keyframe),
         r.num_keypoints, r.num_filtered, r.num_refilled, r.num_inliers, r.judged ? 1 : 0,
         t.detect_ms, t.filter_ms, t.refill_ms, t.describe_ms, t.track_ms, t.local_map_ms,
@@ -95,7 +104,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     total.push_back(r.timing.total_ms);
     latency.push_back(r.timing.latency_ms);
     keypoints.push_back(r.num_keypoints);
-    filtered.push_back(r.num_filtered);
+    if (r.judged) filtered.push_back(r.num_filtered);  // A withheld first frame was not filtered.
     inliers.push_back(r.num_inliers);
   }
   std::vector<double> mapper_ms, ba_ms;
@@ -170,6 +179,7 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
   }
   j["global_bundle_adjustments"] = gbas;
   j["wall_seconds"] = inputs.wall_seconds;
+  if (inputs.overlay_write_seconds > 0.0) j["overlay_write_seconds"] = inputs.overlay_write_seconds;
   j["wall_hz"] = records.size() / std::max(1e-9, inputs.wall_seconds);
   // CPU of every thread over the same span (without --preload it includes decoding the PNGs): what
   // a mode costs the machine, and with wall_seconds how many cores the run kept busy. It moves with
@@ -204,7 +214,10 @@ nlohmann::json BuildRunStats(const System& system, const RunSummaryInputs& input
     const EvalResult& e = *evaluation;
     j["ate"] = {{"rmse_m", e.ate.stats.rmse}, {"mean_m", e.ate.stats.mean}, {"median_m", e.ate.stats.median},
                 {"max_m", e.ate.stats.max}, {"pairs", e.ate.stats.count}, {"alignment", "se3"}};
-    j["rpe"] = {{"trans_rmse_m_per_s", e.rpe.trans_m.rmse}, {"rot_rmse_deg_per_s", e.rpe.rot_deg.rmse},
+    // No pair (a run shorter than the RPE delta): null, not a perfect 0.
+    const bool rpe = e.rpe.trans_m.count > 0;
+    j["rpe"] = {{"trans_rmse_m_per_s", rpe ? nlohmann::json(e.rpe.trans_m.rmse) : nlohmann::json()},
+                {"rot_rmse_deg_per_s", rpe ? nlohmann::json(e.rpe.rot_deg.rmse) : nlohmann::json()},
                 {"pairs", e.rpe.trans_m.count}};
     j["coverage"] = e.coverage.fraction;
   }
@@ -243,9 +256,15 @@ std::string FormatRunSummary(const nlohmann::json& stats) {
                   stats["ate"]["rmse_m"].get<double>(), stats["ate"]["pairs"].get<int>(),
                   100.0 * stats["coverage"].get<double>());
     out << line;
-    std::snprintf(line, sizeof(line), "RPE (1 s)         %.4f m/s, %.3f deg/s\n",
-                  stats["rpe"]["trans_rmse_m_per_s"].get<double>(), stats["rpe"]["rot_rmse_deg_per_s"].get<double>());
-    out << line;
+    const nlohmann::json& rpe = stats["rpe"];
+    if (rpe["trans_rmse_m_per_s"].is_number() && rpe["rot_rmse_deg_per_s"].is_number()) {
+      std::snprintf(line, sizeof(line), "RPE (1 s)         %.4f m/s, %.3f deg/s\n",
+                    rpe["trans_rmse_m_per_s"].get<double>(),
+                    rpe["rot_rmse_deg_per_s"].get<double>());
+      out << line;
+    } else {
+      out << "RPE (1 s)         n/a (no pose pair 1 s apart)\n";
+    }
   }
   // Keypoint labels against the ground-truth masks (synthetic sequences), objects moving at the
   // frame, when the mode removed any: by the keypoint's centre pixel, and counting the corners
@@ -256,10 +275,11 @@ std::string FormatRunSummary(const nlohmann::json& stats) {
         now.contains("support")) {
       std::snprintf(
           line, sizeof(line),
-          "moving keypoints  precision %.3f, recall %.3f (centre on the mask); outline corners "
-          "counted: %.3f, %.3f\n",
-          now["precision"].get<double>(), now["recall"].get<double>(),
-          now["support"]["precision"].get<double>(), now["support"]["recall"].get<double>());
+          "moving keypoints  precision %s, recall %s (centre on the mask); outline corners "
+          "counted: %s, %s\n",
+          Fraction(now["precision"]).c_str(), Fraction(now["recall"]).c_str(),
+          Fraction(now["support"]["precision"]).c_str(),
+          Fraction(now["support"]["recall"]).c_str());
       out << line;
     }
   }

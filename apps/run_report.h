@@ -20,6 +20,8 @@ struct RunSummaryInputs {
   size_t first_frame = 0;
   double wall_seconds = 0.0;     // from the first frame's processing (after a preload)
   double cpu_seconds = 0.0;      // CPU time of the process (all threads) over the same span
+  // Writing --save-overlays' files, already taken off both (their writing thread's CPU time).
+  double overlay_write_seconds = 0.0;
   bool preload = false;          // RunRequest::preload
   double preload_seconds = 0.0;  // decoding every frame before the run (with preload)
 };
@@ -39,9 +41,12 @@ nlohmann::json StatsJson(const std::vector<double>& values);
 // times), with a header line. For finding where a run went wrong (docs/slam_core.md "Outputs").
 // `inliers_on_movers` / `new_landmarks_on_movers` (empty: no masks): per record, pose inliers and
 // newly created landmarks on objects moving at that frame (centre pixel on the ground-truth mask),
-// written as the last two columns (-1 without masks).
-std::string FramesCsv(const std::vector<FrameRecord>& records, const std::vector<int>& inliers_on_movers = {},
-                      const std::vector<int>& new_landmarks_on_movers = {});
+// written as the last two columns (-1 without masks, or without a mask at that frame).
+// `frame` is the frame's index in the sequence, `first_frame` + the record's id (the overlays'
+// file names use the same index).
+std::string FramesCsv(const std::vector<FrameRecord>& records,
+                      const std::vector<int>& inliers_on_movers = {},
+                      const std::vector<int>& new_landmarks_on_movers = {}, size_t first_frame = 0);
 
 // A few aligned lines for stdout.
 std::string FormatRunSummary(const nlohmann::json& stats);

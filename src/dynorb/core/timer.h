@@ -1,5 +1,6 @@
 // Stopwatch on the steady clock. Not thread-safe; one per measuring thread.
 // ProcessCpuSeconds: CPU time (user + system) of the whole process, every thread, so far.
+// ThreadCpuSeconds: CPU time of the calling thread so far.
 #pragma once
 
 #include <chrono>
@@ -20,5 +21,11 @@ class Stopwatch {
 };
 
 inline double ProcessCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+inline double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 }  // namespace dynorb
