@@ -39,13 +39,13 @@ std::vector<int> FeaturesPerLevel(const OrbOptions& o) {
   std::vector<int> budget(o.n_levels, 0);
   const double f = 1.0 / o.scale_factor;
   double per_scale = o.n_features * (1.0 - f) / (1.0 - std::pow(f, o.n_levels));
-  int sum = 0;
+  int64_t sum = 0;
   for (int l = 0; l + 1 < o.n_levels; ++l) {
     budget[l] = static_cast<int>(std::lround(per_scale));
     sum += budget[l];
     per_scale *= f;
   }
-  budget[o.n_levels - 1] = std::max(o.n_features - sum, 0);
+  budget[o.n_levels - 1] = static_cast<int>(std::max<int64_t>(o.n_features - sum, 0));
   return budget;
 }
 
@@ -53,9 +53,12 @@ std::vector<int> FeaturesPerLevel(const OrbOptions& o) {
 
 void OrbOptions::Validate() const {
   auto fail = [](const std::string& what) { throw InputError("OrbOptions: " + what); };
-  if (n_features < 1) fail("n_features must be >= 1, got " + std::to_string(n_features));
-  if (!(scale_factor > 1.0 && scale_factor <= 4.0)) {
-    fail("scale_factor must be in (1, 4], got " + std::to_string(scale_factor));
+  if (n_features < 1 || n_features > kMaxOrbFeatures) {
+    fail("n_features must be in [1, " + std::to_string(kMaxOrbFeatures) + "], got " +
+         std::to_string(n_features));
+  }
+  if (!(scale_factor >= kMinOrbScaleFactor && scale_factor <= 4.0)) {
+    fail("scale_factor must be in [1.05, 4], got " + std::to_string(scale_factor));
   }
   if (n_levels < 1 || n_levels > 32)
     fail("n_levels must be in [1, 32], got " + std::to_string(n_levels));
@@ -150,6 +153,11 @@ KeypointSet OrbExtractor::Detect(const cv::Mat& image) const {
 KeypointSet OrbExtractor::DetectExcluding(const KeypointSet& base, const cv::Mat& exclude) const {
   if (base.pyramid == nullptr)
     throw InputError("OrbExtractor::DetectExcluding: the base set has no pyramid");
+  if (base.pyramid->NumLevels() != levels_.NumLevels()) {
+    throw InputError("OrbExtractor::DetectExcluding: the base set's pyramid has " +
+                     std::to_string(base.pyramid->NumLevels()) + " levels, this extractor " +
+                     std::to_string(levels_.NumLevels()));
+  }
   const cv::Size full = base.pyramid->Level(0).size();
   if (exclude.type() != CV_8UC1 || exclude.size() != full) {
     throw InputError("OrbExtractor::DetectExcluding: the mask must be CV_8UC1 of the image size");

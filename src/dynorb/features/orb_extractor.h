@@ -20,6 +20,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "dynorb/core/orb_limits.h"
 #include "dynorb/features/image_pyramid.h"
 
 namespace dynorb {

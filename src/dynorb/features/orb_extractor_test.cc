@@ -34,6 +34,15 @@ TEST(OrbOptions, DefaultsAndValidation) {
   };
   bad([](OrbOptions& b) { b.n_features = 0; });
   bad([](OrbOptions& b) { b.scale_factor = 1.0; });
+  // Session 55: levels of one size (1.0001: every keypoint found on each of them), and budgets
+  // whose sum overflowed an int.
+  bad([](OrbOptions& b) { b.scale_factor = 1.0001; });
+  bad([](OrbOptions& b) { b.n_features = 2147483647; });
+  OrbOptions edge;
+  edge.scale_factor = kMinOrbScaleFactor;
+  edge.n_features = kMaxOrbFeatures;
+  edge.n_levels = 32;
+  EXPECT_NO_THROW(OrbExtractor{edge});
   bad([](OrbOptions& b) { b.n_levels = 0; });
   bad([](OrbOptions& b) { b.ini_th_fast = 0; });
   bad([](OrbOptions& b) { b.min_th_fast = 21; });
@@ -216,6 +225,9 @@ TEST(OrbExtractor, DetectExcludingSpendsTheBudgetOutsideTheMask) {
   exclude.colRange(0, boundary).setTo(255);
   const KeypointSet right = extractor.DetectExcluding(all, exclude);
   EXPECT_EQ(right.pyramid, all.pyramid);  // Same pyramid, no second build.
+  OrbOptions two_levels;
+  two_levels.n_levels = 2;  // A pyramid of 8 levels read with 2 levels' tables (an ASan overflow).
+  EXPECT_THROW(OrbExtractor(two_levels).DetectExcluding(all, exclude), InputError);
   int inside = 0, kept_right = 0;
   for (const cv::KeyPoint& kp : right.keypoints) inside += kp.pt.x < boundary - 1.f ? 1 : 0;
   for (const cv::KeyPoint& kp : all.keypoints) kept_right += kp.pt.x >= boundary ? 1 : 0;

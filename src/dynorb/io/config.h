@@ -16,6 +16,7 @@
 #include <string>
 
 #include "dynorb/core/keypoint_observation.h"
+#include "dynorb/core/orb_limits.h"
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/io/config_schema.h"
 #include "dynorb/io/tum_sequence.h"
@@ -53,7 +54,7 @@ struct CameraConfig {
 struct OrbConfig {
   // Number of ORB features per image (ORBextractor.nFeatures).
   int n_features = 1000;
-  // Scale factor between pyramid levels (ORBextractor.scaleFactor), > 1.
+  // Scale factor between pyramid levels (ORBextractor.scaleFactor), in [1.05, 4].
   double scale_factor = 1.2;
   // Number of pyramid levels (ORBextractor.nLevels).
   int n_levels = 8;

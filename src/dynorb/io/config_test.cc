@@ -151,6 +151,12 @@ TEST_F(ConfigTest, InvalidInputs) {
   ExpectInputError(
       [&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.nFeatures: 1000.5\n")); },
       "a.yaml:5: 'ORBextractor.nFeatures' expects an integer, got '1000.5'");
+  ExpectInputError(
+      [&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.scaleFactor: 1.0001\n")); },
+      "ORBextractor.scaleFactor must be in [1.05, 4] (ORB-SLAM2: 1.2), got 1.000100");
+  ExpectInputError(
+      [&] { LoadSystemConfig(Write("a.yaml", base + "ORBextractor.nFeatures: 2147483647\n")); },
+      "ORBextractor.nFeatures must be <= 1000000");
   ExpectInputError([&] { LoadSystemConfig(Write("b.yaml", base + "Camera.cx: abc\n")); },
                    "b.yaml:5: 'Camera.cx' expects a number, got 'abc'");
   ExpectInputError([&] { LoadSystemConfig(Write("c.yaml", base + "Camera.RGB: maybe\n")); },

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -17,6 +18,7 @@ namespace dynorb {
 namespace {
 
 constexpr char kMagic[8] = {'D', 'Y', 'N', 'V', 'O', 'C', '0', '1'};
+constexpr float kMaxIdf = 64.0f;  // A word weight above this is no ln(images / images with it).
 constexpr int kBits = kBriefBytes * 8;
 
 void CheckDescriptors(const cv::Mat& d, const std::string& what) {
@@ -235,7 +237,14 @@ Vocabulary Vocabulary::Train(const std::vector<cv::Mat>& descriptors_per_image,
     std::memcpy(v.centres_.ptr<uint8_t>(static_cast<int>(n)), centres[n].data(), kBriefBytes);
   }
 
-  // idf over the training images.
+  // idf over the training images (one image: every weight would be ln 1 = 0, nothing to match).
+  const auto with_descriptors =
+      std::count_if(descriptors_per_image.begin(), descriptors_per_image.end(),
+                    [](const cv::Mat& d) { return !d.empty(); });
+  if (with_descriptors < 2) {
+    throw InputError("vocabulary training needs descriptors from at least 2 images, got " +
+                     std::to_string(with_descriptors) + ": every word would weigh 0");
+  }
   v.idf_.assign(num_words, 0.0f);
   std::vector<int> images_with_word(num_words, 0);
   int num_images = 0;
@@ -354,6 +363,10 @@ Vocabulary Vocabulary::FromBytes(const std::string& bytes, const std::string& na
   v.nodes_.resize(num_nodes);
   v.centres_ = cv::Mat(static_cast<int>(num_nodes), kBriefBytes, CV_8UC1);
   std::vector<int> word_seen(num_words, 0);
+  // Every node but the root has one parent and lies at most `levels` below the root: a descent
+  // takes at most `levels` steps (a hand-made chain of 1e5 nodes made every lookup walk it).
+  std::vector<int> depth(num_nodes, -1);
+  depth[0] = 0;
   for (uint64_t n = 0; n < num_nodes; ++n) {
     Node& node = v.nodes_[n];
     node.first_child = static_cast<uint32_t>(in.Get(4));
@@ -364,11 +377,16 @@ Vocabulary Vocabulary::FromBytes(const std::string& bytes, const std::string& na
       // Children after their parent: every descent ends.
       if (node.word != -1 || node.num_children > static_cast<uint32_t>(v.branching_) ||
           node.first_child <= n ||
-          static_cast<uint64_t>(node.first_child) + node.num_children > num_nodes) {
+          static_cast<uint64_t>(node.first_child) + node.num_children > num_nodes || depth[n] < 0 ||
+          depth[n] >= v.levels_) {
         throw bad("node " + std::to_string(n));
       }
+      for (uint32_t c = node.first_child; c < node.first_child + node.num_children; ++c) {
+        if (depth[c] >= 0) throw bad("node " + std::to_string(c) + " has two parents");
+        depth[c] = depth[n] + 1;
+      }
     } else {
-      if (node.word < 0 || static_cast<uint64_t>(node.word) >= num_words ||
+      if (depth[n] < 0 || node.word < 0 || static_cast<uint64_t>(node.word) >= num_words ||
           word_seen[node.word]++) {
         throw bad("leaf " + std::to_string(n));
       }
@@ -378,16 +396,36 @@ Vocabulary Vocabulary::FromBytes(const std::string& bytes, const std::string& na
   for (uint64_t w = 0; w < num_words; ++w) {
     const uint32_t bits = static_cast<uint32_t>(in.Get(4));
     std::memcpy(&v.idf_[w], &bits, 4);
-    if (!std::isfinite(v.idf_[w]) || v.idf_[w] < 0.0f)
+    // ln(images / images with the word) <= ln(2^32) ~ 22 for any training set.
+    if (!std::isfinite(v.idf_[w]) || v.idf_[w] < 0.0f || v.idf_[w] > kMaxIdf)
       throw bad("weight of word " + std::to_string(w));
     if (!word_seen[w]) throw bad("word " + std::to_string(w) + " has no leaf");
   }
+  if (std::all_of(v.idf_.begin(), v.idf_.end(), [](float f) { return f == 0.0f; }))
+    throw bad("every word weighs 0 (trained on one image?): no image would have a bag of words");
   return v;
 }
 
 Vocabulary Vocabulary::Load(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open vocabulary file");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path + ": not a regular file (a vocabulary written by 'dynorb vocab')");
+  // The size the header announces, before reading the rest (a 1 GB file of zeros was read whole).
+  const uint64_t size = std::filesystem::file_size(path, ec);
+  std::string header(sizeof(kMagic) + 16, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  if (in && std::memcmp(header.data(), kMagic, sizeof(kMagic)) == 0) {
+    uint64_t num_nodes = 0, num_words = 0;
+    for (int i = 0; i < 4; ++i) {
+      num_nodes |= static_cast<uint64_t>(static_cast<uint8_t>(header[16 + i])) << (8 * i);
+      num_words |= static_cast<uint64_t>(static_cast<uint8_t>(header[20 + i])) << (8 * i);
+    }
+    if (ec || size != header.size() + num_nodes * (12 + kBriefBytes) + num_words * 4 + 8)
+      throw InputError(path + ": vocabulary file is corrupt (its size does not match its header)");
+  }
+  in.seekg(0);
   std::ostringstream bytes;
   bytes << in.rdbuf();
   return FromBytes(bytes.str(), path);

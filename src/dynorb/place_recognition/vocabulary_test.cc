@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <random>
 #include <set>
@@ -199,6 +201,73 @@ TEST(Vocabulary, BadFilesAndOptionsAreInputErrors) {
   o.branching = 10;
   o.levels = 9;
   testing::ExpectInputError([&] { o.Validate(); }, "levels");
+}
+
+// `bytes` (a vocabulary file) with `edit` applied to its fields and the checksum sealed again: a
+// hand-edited file that only the consistency checks can catch.
+std::string Resealed(const std::string& bytes, const std::function<void(std::string*)>& edit) {
+  std::string fields = bytes.substr(0, bytes.size() - 8);
+  edit(&fields);
+  uint64_t h = 1469598103934665603ULL;
+  for (char ch : fields) h = (h ^ static_cast<uint8_t>(ch)) * 1099511628211ULL;
+  for (int i = 0; i < 8; ++i) fields.push_back(static_cast<char>((h >> (8 * i)) & 0xff));
+  return fields;
+}
+
+void PutFloat(std::string* bytes, size_t at, float value) { std::memcpy(&(*bytes)[at], &value, 4); }
+
+// Session-55 review: a tree deeper than its levels, word weights no training gives, every weight
+// 0, a file larger than its header says, training on one image.
+TEST(Vocabulary, HandEditedOrUselessVocabulariesAreRefused) {
+  const cv::Mat prototypes = RandomPrototypes(60, 3);
+  std::mt19937 rng(4);
+  std::vector<cv::Mat> images;
+  for (int i = 0; i < 6; ++i) {
+    std::vector<int> which;
+    for (int p = i * 10; p < i * 10 + 10; ++p) which.push_back(p);
+    images.push_back(NoisyCopies(prototypes, which, 5, 4, &rng));
+  }
+  VocabularyOptions o;
+  o.branching = 4;
+  o.levels = 3;
+  const std::string bytes = Vocabulary::Train(images, o).ToBytes();
+  ASSERT_NO_THROW(Vocabulary::FromBytes(bytes, "v.bin"));
+  // The same tree declared one level shallower: a node at the last level has children.
+  testing::ExpectInputError(
+      [&] {
+        Vocabulary::FromBytes(Resealed(bytes, [](std::string* b) { (*b)[12] = 2; }), "v.bin");
+      },
+      "v.bin: inconsistent vocabulary: node");
+  const size_t idf_start =
+      bytes.size() - 8 - 4 * static_cast<size_t>(Vocabulary::FromBytes(bytes, "v").NumWords());
+  testing::ExpectInputError(
+      [&] {
+        Vocabulary::FromBytes(
+            Resealed(bytes, [&](std::string* b) { PutFloat(b, idf_start, 3e38f); }), "v.bin");
+      },
+      "inconsistent vocabulary: weight of word 0");
+  testing::ExpectInputError(
+      [&] {
+        Vocabulary::FromBytes(Resealed(bytes,
+                                       [&](std::string* b) {
+                                         for (size_t at = idf_start; at + 8 < b->size() + 8;
+                                              at += 4)
+                                           PutFloat(b, at, 0.0f);
+                                       }),
+                              "v.bin");
+      },
+      "every word weighs 0");
+  // A file longer than its header says is refused before it is read whole.
+  const std::string path = ::testing::TempDir() + "dynorb_vocab_oversized.bin";
+  { std::ofstream(path, std::ios::binary) << bytes << std::string(1000, '\0'); }
+  testing::ExpectInputError([&] { Vocabulary::Load(path); }, "its size does not match its header");
+  std::remove(path.c_str());
+  // One image: ln(1 / 1) = 0 for every word.
+  testing::ExpectInputError(
+      [&] {
+        Vocabulary::Train({images[0], cv::Mat()}, o);
+      },
+      "descriptors from at least 2 images, got 1");
 }
 
 // The checked-in file (written by an earlier `dynorb vocab`) is exactly what ToBytes writes, and
