@@ -9,11 +9,11 @@ source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
   { echo "FAIL: synth"; exit 1; }
 SEQ="$DIR/seq"
 
-out=$("$DYNORB" vocab --images "$SEQ/rgb" --branching 4 --levels 3 --out "$DIR/v.dynvoc" 2>&1) || fail "vocab: exit code $?"
-grep -q "^wrote $DIR/v.dynvoc: [0-9]* words (branching 4, 3 levels) from [0-9]* descriptors of 30 images" <<<"$out" ||
+out=$("$DYNORB" vocab --images "$SEQ/rgb" --branching 6 --levels 3 --out "$DIR/v.dynvoc" 2>&1) || fail "vocab: exit code $?"
+grep -q "^wrote $DIR/v.dynvoc: [0-9]* words (branching 6, 3 levels) from [0-9]* descriptors of 30 images" <<<"$out" ||
   fail "vocab: unexpected summary: $out"
 [[ -s "$DIR/v.dynvoc" ]] || fail "vocab: no file"
-"$DYNORB" vocab --images "$SEQ/rgb" --branching 4 --levels 3 --out "$DIR/again.dynvoc" >/dev/null 2>&1
+"$DYNORB" vocab --images "$SEQ/rgb" --branching 6 --levels 3 --out "$DIR/again.dynvoc" >/dev/null 2>&1
 cmp -s "$DIR/v.dynvoc" "$DIR/again.dynvoc" || fail "vocab: training twice gave different files"
 
 # A run with it, and the effective config says which.

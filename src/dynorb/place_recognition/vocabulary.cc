@@ -261,6 +261,12 @@ Vocabulary Vocabulary::Train(const std::vector<cv::Mat>& descriptors_per_image,
     v.idf_[w] = static_cast<float>(
         std::log(static_cast<double>(num_images) / std::max(1, images_with_word[w])));
   }
+  if (std::all_of(v.idf_.begin(), v.idf_.end(), [](float f) { return f == 0.0f; })) {
+    throw InputError("every one of the " + std::to_string(num_words) +
+                     " vocabulary words is in every training image: such a vocabulary cannot "
+                     "tell places apart (train on more varied images, or with more words: "
+                     "branching / levels)");
+  }
   return v;
 }
 
