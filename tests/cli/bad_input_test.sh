@@ -6,17 +6,6 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/test_lib.sh"
 
-# expect_error expected-message-part command args...
-expect_error() {
-  local expected=$1
-  shift
-  local err code
-  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
-  code=$?
-  [[ $code != 0 ]] || fail "$*: exit code 0"
-  grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
-}
-
 # Sizes that used to exhaust memory or write unreadable files.
 expect_error "dynorb: error: --frames must be 0..1000000, got 2000000" synth --frames 2000000 --out "$DIR/s1"
 [[ ! -e "$DIR/s1" ]] || fail "synth --frames 2000000 wrote $DIR/s1"

@@ -13,3 +13,26 @@ finish() {
   fi
   echo "all $1 passed"
 }
+# expect_error EXPECTED command args...: `dynorb command args` exits non-zero and its stderr
+# contains EXPECTED.
+expect_error() {
+  local expected=$1
+  shift
+  local err code
+  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
+  code=$?
+  [[ $code != 0 ]] || fail "$*: exit code 0"
+  grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
+}
+# expect_clean_error EXPECTED command args...: as expect_error, and an input error's exit code 2
+# with exactly one line.
+expect_clean_error() {
+  local expected=$1
+  shift
+  local err code
+  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
+  code=$?
+  [[ $code == 2 ]] || fail "$*: exit code $code"
+  grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
+  [[ $(wc -l <<<"$err") == 1 ]] || fail "$*: more than one line: $err"
+}

@@ -124,7 +124,8 @@ TEST(Vocabulary, TransformIsNormalisedAndScoresSamePlaceHigh) {
   EXPECT_TRUE(v.Transform(cv::Mat()).empty());
 }
 
-TEST(Vocabulary, TreeWithSeveralLevelsReachesEveryLeaf) {
+// Six images of ten prototypes each (60 in all), five noisy copies of every prototype.
+std::vector<cv::Mat> SixPlaces() {
   const cv::Mat prototypes = RandomPrototypes(60, 3);
   std::mt19937 rng(4);
   std::vector<cv::Mat> images;
@@ -133,6 +134,11 @@ TEST(Vocabulary, TreeWithSeveralLevelsReachesEveryLeaf) {
     for (int p = i * 10; p < i * 10 + 10; ++p) which.push_back(p);
     images.push_back(NoisyCopies(prototypes, which, 5, 4, &rng));
   }
+  return images;
+}
+
+TEST(Vocabulary, TreeWithSeveralLevelsReachesEveryLeaf) {
+  const std::vector<cv::Mat> images = SixPlaces();
   VocabularyOptions o;
   o.branching = 4;
   o.levels = 3;
@@ -219,14 +225,7 @@ void PutFloat(std::string* bytes, size_t at, float value) { std::memcpy(&(*bytes
 // Session-55 review: a tree deeper than its levels, word weights no training gives, every weight
 // 0, a file larger than its header says, training on one image.
 TEST(Vocabulary, HandEditedOrUselessVocabulariesAreRefused) {
-  const cv::Mat prototypes = RandomPrototypes(60, 3);
-  std::mt19937 rng(4);
-  std::vector<cv::Mat> images;
-  for (int i = 0; i < 6; ++i) {
-    std::vector<int> which;
-    for (int p = i * 10; p < i * 10 + 10; ++p) which.push_back(p);
-    images.push_back(NoisyCopies(prototypes, which, 5, 4, &rng));
-  }
+  const std::vector<cv::Mat> images = SixPlaces();
   VocabularyOptions o;
   o.branching = 4;
   o.levels = 3;
