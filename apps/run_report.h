@@ -20,7 +20,8 @@ struct RunSummaryInputs {
   size_t first_frame = 0;
   double wall_seconds = 0.0;     // from the first frame's processing (after a preload)
   double cpu_seconds = 0.0;      // CPU time of the process (all threads) over the same span
-  // Writing --save-overlays' files, already taken off both (their writing thread's CPU time).
+  // Writing --save-overlays' files (wall time): inside wall_seconds; its CPU time (the writing
+  // thread's) is taken off cpu_seconds.
   double overlay_write_seconds = 0.0;
   bool preload = false;          // RunRequest::preload
   double preload_seconds = 0.0;  // decoding every frame before the run (with preload)

@@ -36,9 +36,12 @@ def main(runs: pathlib.Path) -> int:
         ratio = f"{ate / twin_ate:13.1f}" if ate is not None and twin_ate else f"{'-':>13}"
         speed = f"{ms / plain_ms[variant]:19.2f}x" if plain_ms[variant] else f"{'-':>20}"
         has_filter = mode != "plain" and now.get("true_positive", 0) + now.get("false_negative", 0) > 0
-        recall = f"{now['recall']:16.2f}" if has_filter else f"{'-':>16}"
-        precision = f"{now['precision']:9.2f}" if has_filter else f"{'-':>9}"
-        outlines = f"{now['support']['precision']:11.2f}" if has_filter and "support" in now else f"{'-':>11}"
+        # A ratio with nothing to divide by is null in stats.json (e.g. nothing removed): "-".
+        def number(value, width):
+            return f"{value:{width}.2f}" if has_filter and value is not None else f"{'-':>{width}}"
+        recall = number(now.get("recall"), 16)
+        precision = number(now.get("precision"), 9)
+        outlines = number(now.get("support", {}).get("precision"), 11)
         ate_text = f"{ate:12.4f}" if ate is not None else f"{'-':>12}"
         # Share of the final map's landmarks made on a dynamic object (stats.json
         # map_landmarks_on_dynamic_objects; sequences with masks).

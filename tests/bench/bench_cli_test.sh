@@ -569,6 +569,12 @@ expect_bench_error "people directory not found: /nonexistent/people" "$DIR/bp" -
 printf 'fast:\n  no_such_key: 3\n' >"$DIR/bad_overlay.yaml"
 sed 's|^  - plain$|  - {name: fast, overlay: bad_overlay.yaml}|' "$DIR/tiny.yaml" >"$DIR/bad_overlay_suite.yaml"
 expect_bench_error "no_such_key" "$DIR/bo" --suite "$DIR/bad_overlay_suite.yaml" --people procedural
+# Every shipped suite plans (overlays holding a few keys over the sequence's camera config).
+# (The real TUM sequences are not here: all skipped is that suite's only allowed complaint.)
+for suite in "$SRC"/bench/suites/*.yaml; do
+  err=$("$DYNORB" bench --suite "$suite" --out "$DIR/list" --list --skip-missing 2>&1 >/dev/null) ||
+    grep -qF "no sequence to run (all skipped)" <<<"$err" || fail "shipped suite $(basename "$suite") refused: $err"
+done
 sed 's/^repeats: 1$/seeds: [4, 4]/' "$DIR/tiny.yaml" >"$DIR/dup_seeds.yaml"
 expect_bench_error "seed 4 is listed twice" "$DIR/ds" --suite "$DIR/dup_seeds.yaml" --people procedural
 

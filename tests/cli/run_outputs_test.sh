@@ -50,4 +50,15 @@ assert d["precision"] is None and d["mean_frame_precision"] is None, d
 assert d["recall"] == 0.0, d["recall"]
 PYEOF
 
+# The demo's table (scripts/demo_table.py, `make demo`) takes null ratios: a semantic run with an
+# empty box list removes nothing while movers are in view.
+mkdir -p "$DIR/table/runs/seq/plain/seed1" "$DIR/table/runs/seq/semantic/seed1"
+cp "$DIR/plain/stats.json" "$DIR/table/runs/seq/plain/seed1/"
+: >"$DIR/boxes.txt"
+printf 'semantic:\n  source: boxes\n  list: %s\n' "$DIR/boxes.txt" >"$DIR/no_boxes.yaml"
+"$DYNORB" run --dataset "$DIR/seq" --mode semantic --config-overlay "$DIR/no_boxes.yaml" \
+  --out "$DIR/table/runs/seq/semantic/seed1" --quiet >/dev/null 2>&1 || fail "semantic run with no boxes"
+/usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/../../scripts/demo_table.py" "$DIR/table" >"$DIR/table.txt" 2>&1 ||
+  fail "demo_table.py on null ratios: $(cat "$DIR/table.txt")"
+
 finish "run output checks"

@@ -86,7 +86,10 @@ EvalResult EvaluateTrajectories(const Trajectory& gt, const Trajectory& est,
   }
   const bool shorter_than_delta =
       est.back().timestamp_s - est.front().timestamp_s < options.rpe_delta_s;
-  if (result.rpe.pairs.empty() && (options.warn_rpe_shorter_than_delta || !shorter_than_delta)) {
+  if (!result.rpe.no_pair_reason.empty()) {
+    result.warnings.push_back("RPE not available: " + result.rpe.no_pair_reason);
+  } else if (result.rpe.pairs.empty() &&
+             (options.warn_rpe_shorter_than_delta || !shorter_than_delta)) {
     result.warnings.push_back(
         Format("RPE not available: no estimate pose pair %.3g s apart with ground truth",
                options.rpe_delta_s));

@@ -112,12 +112,13 @@ RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptio
     trans_paper.push_back(pair.trans_paper_form_m);
   }
   if (other_pairs == 0 && self_pairs > 0) {
-    throw InputError("RPE delta " + ShortNumber(options.delta_s) +
-                     " s is shorter than the estimate's frame interval (median " +
-                     ShortNumber(Median(Intervals(est_stamps))) + " s): the pose closest to " +
-                     ShortNumber(options.delta_s) +
-                     " s after each pose is the pose itself, so there is no pose pair; use a "
-                     "longer --rpe-delta");
+    result.no_pair_reason =
+        ("RPE delta " + ShortNumber(options.delta_s) +
+         " s is shorter than the estimate's frame interval (median " +
+         ShortNumber(Median(Intervals(est_stamps))) + " s): the pose closest to " +
+         ShortNumber(options.delta_s) +
+         " s after each pose is the pose itself, so there is no pose pair; use a "
+         "longer --rpe-delta");
   }
   result.trans_m = Summarize(std::move(trans));
   result.rot_deg = Summarize(std::move(rot_deg));

@@ -18,6 +18,7 @@
 // Pure functions, thread-safe.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "dynorb/core/stats.h"
@@ -45,10 +46,14 @@ struct RpeResult {
   SummaryStats rot_deg;                   // over pairs[].rot_rad, in degrees
   SummaryStats trans_paper_form_m;        // over pairs[].trans_paper_form_m
   double gt_max_time_difference_s = 0.0;  // 2 x median ground-truth stamp interval
+  // Why there is no pair when every candidate was a pose with itself (delta shorter than the
+  // estimate's frame interval); empty otherwise.
+  std::string no_pair_reason;
 };
 
-// Returns an empty result (count 0) if no pair qualifies, e.g. a trajectory shorter than delta.
-// Throws InputError when delta_s is so short that every candidate pair is a pose with itself.
+// Returns an empty result (count 0) if no pair qualifies, e.g. a trajectory shorter than delta;
+// when delta_s is so short that every candidate pair is a pose with itself, `no_pair_reason`
+// says so.
 RpeResult ComputeRpe(const Trajectory& gt, const Trajectory& est, const RpeOptions& options);
 
 // Index of the stamp closest to t in a sorted vector: evaluate_rpe.py's find_closest_index, a
