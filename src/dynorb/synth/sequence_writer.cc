@@ -1,6 +1,10 @@
 #include "dynorb/synth/sequence_writer.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <cstdio>
 #include <filesystem>
@@ -23,32 +27,57 @@ void WritePng(const std::string& path, const cv::Mat& image) {
 
 }  // namespace
 
+namespace {
+
+constexpr char kStagingPrefix[] = ".partial-";
+
+// The process id of a staging folder's name (".partial-<pid>"), or 0 when it is no such name.
+long StagingPid(const fs::path& entry) {
+  const std::string name = entry.filename().string();
+  if (name.rfind(kStagingPrefix, 0) != 0) return 0;
+  const std::string digits = name.substr(sizeof(kStagingPrefix) - 1);
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return std::strtol(digits.c_str(), nullptr, 10);
+}
+
+}  // namespace
+
 void SequenceWriter::CheckTarget(const std::string& dir, bool force) {
   std::error_code ec;
   if (dir.empty()) throw InputError("no output directory given");
   if (!fs::exists(dir, ec)) return;
   if (!fs::is_directory(dir, ec))
     throw InputError("output path exists and is not a directory: " + dir);
-  if (!force && !fs::is_empty(dir, ec))
-    throw InputError("output directory is not empty: " + dir + " (use --force to overwrite)");
+  if (force) return;
+  // Staging folders of generations (interrupted ones are removed by the writer) do not count.
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (StagingPid(entry.path()) == 0)
+      throw InputError("output directory is not empty: " + dir + " (use --force to overwrite)");
+  }
 }
 
 SequenceWriter::SequenceWriter(std::string dir, bool force) : final_dir_(std::move(dir)) {
   CheckTarget(final_dir_, force);
-  // The staging folder: a hidden sibling, so that Commit() is a rename on the same file system.
-  fs::path target = fs::path(final_dir_).lexically_normal();
-  if (target.has_parent_path() && target.filename().empty()) target = target.parent_path();
-  const std::string name = target.filename().string();
-  if (name.empty() || name == "." || name == "..")
-    throw InputError("output directory must be named: " + final_dir_);
-  dir_ = (target.parent_path() / ("." + name + ".partial-" + std::to_string(::getpid()))).string();
+  folder_.emplace(final_dir_, "output directory");  // Removed again if the generation fails.
   std::error_code ec;
-  fs::remove_all(dir_, ec);  // A stale one of an earlier process with this id.
+  // Staging folders of generations that were killed (their process is gone).
+  for (const auto& entry : fs::directory_iterator(final_dir_, ec)) {
+    const long pid = StagingPid(entry.path());
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code ignored;
+      fs::remove_all(entry.path(), ignored);
+    }
+  }
+  // The staging folder inside the output folder: Commit() renames within one folder (no other
+  // file system, symbolic links and read-only parents alike).
+  dir_ = (fs::path(final_dir_) / (kStagingPrefix + std::to_string(::getpid()))).string();
+  fs::remove_all(dir_, ec);
   for (const char* sub : {"rgb", "depth", "masks"}) {
     fs::create_directories(fs::path(dir_) / sub, ec);
     if (ec) {
+      const std::string reason = ec.message();
       fs::remove_all(dir_, ec);
-      throw InputError("cannot create output directory " + final_dir_ + " (" + ec.message() + ")");
+      throw InputError("cannot create output directory " + final_dir_ + " (" + reason + ")");
     }
   }
   // Fail early (before any rendering) if the directory is not writable.
@@ -64,28 +93,25 @@ SequenceWriter::SequenceWriter(std::string dir, bool force) : final_dir_(std::mo
 SequenceWriter::~SequenceWriter() {
   if (committed_) return;
   std::error_code ec;
-  fs::remove_all(dir_, ec);  // A failed generation leaves nothing.
+  fs::remove_all(dir_, ec);  // A failed generation leaves nothing (and no folder it made).
 }
 
 void SequenceWriter::Commit() {
-  std::error_code ec;
-  // An empty or missing target is replaced whole (rename replaces an empty directory).
-  if (!fs::exists(final_dir_, ec) || fs::is_empty(final_dir_, ec)) {
-    fs::rename(dir_, final_dir_, ec);
-    if (ec) throw InputError("cannot move " + dir_ + " to " + final_dir_ + ": " + ec.message());
-    committed_ = true;
-    return;
-  }
-  // --force on an earlier sequence: its entries are replaced, anything else in the folder stays.
+  // Each entry renamed into place; with --force an earlier sequence's entry of the same name is
+  // replaced, anything else in the folder stays.
   for (const auto& entry : fs::directory_iterator(dir_)) {
     const fs::path to = fs::path(final_dir_) / entry.path().filename();
+    std::error_code ec;
     fs::remove_all(to, ec);
     fs::rename(entry.path(), to, ec);
-    if (ec)
+    if (ec) {
       throw InputError("cannot move " + entry.path().string() + " to " + to.string() + ": " +
                        ec.message());
+    }
   }
   committed_ = true;
+  folder_->Keep();
+  std::error_code ec;
   fs::remove(dir_, ec);
 }
 

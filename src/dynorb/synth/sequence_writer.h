@@ -9,26 +9,28 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dynorb/core/pinhole_camera.h"
 #include "dynorb/core/trajectory.h"
+#include "dynorb/io/atomic_file.h"
 
 namespace dynorb::synth {
 
 class SequenceWriter {
  public:
-  // Writes into a hidden staging folder next to `dir` (.<name>.partial-<pid>, with rgb/, depth/,
-  // masks/). Throws InputError if it cannot be created or written, or if `dir` is not empty and
-  // `force` is false.
+  // Creates `dir` if needed and writes into a hidden staging folder inside it (.partial-<pid>,
+  // with rgb/, depth/, masks/; those of killed generations are removed). Throws InputError if it
+  // cannot be created or written, or if `dir` is not empty and `force` is false.
   SequenceWriter(std::string dir, bool force);
   // Without Commit() (generation failed) the staging folder is removed: no half-written sequence.
   ~SequenceWriter();
   SequenceWriter(const SequenceWriter&) = delete;
   SequenceWriter& operator=(const SequenceWriter&) = delete;
-  // Moves the sequence to `dir`. A missing or empty `dir` is replaced whole; with `force`, the
-  // entries of an earlier sequence in `dir` are replaced by the new ones and other files stay.
+  // Moves the sequence's entries into `dir`; with `force`, an earlier sequence's entries of the
+  // same names are replaced and other files stay.
   void Commit();
   // The checks of the constructor that need no writing (exists as a file, not empty): run them
   // before expensive work so that bad input fails early and leaves nothing behind.
@@ -49,7 +51,8 @@ class SequenceWriter {
 
  private:
   std::string final_dir_;
-  std::string dir_;  // The staging folder written to.
+  std::optional<OutputFolder> folder_;  // `dir`, removed again if it was made and stays empty.
+  std::string dir_;                     // The staging folder written to.
   bool committed_ = false;
 };
 

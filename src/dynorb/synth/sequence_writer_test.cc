@@ -45,7 +45,8 @@ TEST_F(SequenceWriterTest, AFailedGenerationLeavesNothing) {
     SequenceWriter writer(out.string(), false);
     WriteOneFrame(writer, 1.0);
     writer.WriteText("rgb.txt", "1.000000 rgb/1.000000.png\n");
-    EXPECT_FALSE(fs::exists(out)) << "nothing at the final name before Commit()";
+    EXPECT_FALSE(fs::exists(out / "rgb.txt") || fs::exists(out / "rgb"))
+        << "nothing at the final names before Commit()";
   }
   EXPECT_EQ(Entries(root_), 0u) << "no staging folder left either";
 }
@@ -97,6 +98,24 @@ TEST_F(SequenceWriterTest, ForceReplacesAnEarlierSequenceOnlyOnCommit) {
   EXPECT_EQ(line, "new");
   EXPECT_TRUE(fs::exists(out / "notes.txt"));
   EXPECT_EQ(Entries(root_), 1u);
+}
+
+// The staging folder lives inside the output folder: an output reached through a symbolic link
+// works (a sibling staging folder was on the link's file system, not the target's), and a killed
+// generation's staging folder neither blocks nor stays.
+TEST_F(SequenceWriterTest, StagingInsideTheOutputFolder) {
+  fs::create_directories(root_ / "real");
+  fs::create_directory_symlink(root_ / "real", root_ / "link");
+  fs::create_directories(root_ / "real" / ".partial-999999999" / "rgb");  // No such process.
+  {
+    SequenceWriter writer((root_ / "link").string(), false);
+    EXPECT_FALSE(fs::exists(root_ / "real" / ".partial-999999999")) << "stale staging folder kept";
+    WriteOneFrame(writer, 1.0);
+    writer.Commit();
+  }
+  EXPECT_TRUE(fs::is_regular_file(root_ / "real" / "rgb" / "1.000000.png"));
+  EXPECT_TRUE(fs::is_symlink(root_ / "link"));
+  EXPECT_EQ(Entries(root_ / "real"), 3u);  // rgb, depth, masks; no staging folder.
 }
 
 TEST_F(SequenceWriterTest, DuplicateOrLongTimestampsAreRefusedBeforeWriting) {
