@@ -48,6 +48,14 @@ std::string UtcNow() {
   return text;
 }
 
+// A path as one spelling ("out", "./out/", an absolute path, a link: the same folder).
+std::string SamePath(const std::string& path) {
+  if (path.empty()) return path;
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::path(path).lexically_normal().string() : canonical.string();
+}
+
 // The people cut-outs of generated sequences ("" = procedural figures).
 std::string SynthPeopleDir(const BenchOptions& options) {
   if (options.people_dir == "auto")
@@ -65,7 +73,9 @@ bool CachedSequenceIsCurrent(const std::string& dataset, const std::string& peop
   while (std::getline(scene, line)) {
     if (line.rfind("synth_version:", 0) == 0)
       version = line == std::string("synth_version: ") + synth::kSynthVersion;
-    if (line.rfind("people_dir:", 0) == 0) people = line == "people_dir: '" + people_dir + "'";
+    if (line.rfind("people_dir:", 0) == 0 && line.size() >= 14 && line.back() == '\'') {
+      people = SamePath(line.substr(13, line.size() - 14)) == SamePath(people_dir);
+    }
   }
   return version && people;
 }
@@ -179,18 +189,19 @@ std::string ContentHash(const std::string& path) {
 
 nlohmann::json RequestFingerprint(const RunRequest& r) {
   std::vector<std::string> overlays;
-  for (const std::string& o : r.config_overlays) overlays.push_back(o + "#" + ContentHash(o));
+  for (const std::string& o : r.config_overlays)
+    overlays.push_back(SamePath(o) + "#" + ContentHash(o));
   const std::string config =
       r.config.empty() ? (fs::path(r.dataset) / "camera.yaml").string() : r.config;
-  return {{"dataset", r.dataset},
+  return {{"dataset", SamePath(r.dataset)},
           {"scene", ContentHash((fs::path(r.dataset) / "scene.yaml").string())},
-          {"config", config + "#" + ContentHash(config)},
+          {"config", SamePath(config) + "#" + ContentHash(config)},
           {"overlays", overlays},
           {"mode", r.mode},
           {"run_mode", r.run_mode},
           {"seed", r.seed},
           {"frames", r.frames},
-          {"models", r.models},
+          {"models", SamePath(r.models)},
           {"pipeline", r.pipeline},
           {"pipeline_depth", r.pipeline_depth},
           {"front_end_threads", r.front_end_threads},

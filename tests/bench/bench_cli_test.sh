@@ -548,6 +548,11 @@ sed -i 's/^front_end_threads: 2$/front_end_threads: 2\npipeline: false/' "$DIR/t
 run_bench --repeats 1 >"$DIR/run5.txt" 2>&1 || fail "run 5: $(cat "$DIR/run5.txt")"
 grep -qF "runs: 2 (0 resumed, 0 failed)" "$DIR/run5.txt" || fail "another request resumed: $(cat "$DIR/run5.txt")"
 grep -q '"pipeline": false' "$OUT/runs/syn/plain/seed1/bench_request.json" || fail "bench_request.json"
+# The same request spelled otherwise (the output folder with a trailing "/.", from another
+# working directory) is the same request.
+(cd "$DIR" && "$DYNORB" bench --suite tiny.yaml --out "$OUT/." --people procedural --quiet --repeats 1 >"$DIR/run5b.txt" 2>&1) ||
+  fail "run 5b: $(cat "$DIR/run5b.txt")"
+grep -qF "runs: 2 (2 resumed, 0 failed)" "$DIR/run5b.txt" || fail "another spelling of --out was not resumed: $(cat "$DIR/run5b.txt")"
 PEOPLE="$SRC/../shared/data/people"
 if [[ -d "$PEOPLE" ]]; then
   BENCH_PEOPLE=$PEOPLE run_bench --repeats 1 >"$DIR/run6.txt" 2>&1 || fail "run 6: $(cat "$DIR/run6.txt")"
