@@ -10,7 +10,9 @@ dest="models"
 models=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    --dest) dest="$2"; shift 2 ;;
+    --dest)
+      [[ $# -ge 2 && -n "$2" ]] || { echo "--dest needs a folder (e.g. --dest models)" >&2; exit 2; }
+      dest="$2"; shift 2 ;;
     -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
     *) models+=("$1"); shift ;;
   esac

@@ -68,6 +68,11 @@ for args in "yolox.nano" "-e.*" "yolox_nano yolox_nano2" "yolo_fastest_1.1 .*" "
   [[ ! -s "$CURL_LOG" ]] || fail "unknown name ($args): called curl"
 done
 
+# --dest without a folder: one message (it was bash's "unbound variable").
+err=$(bash "$SCRIPT" --dest 2>&1 >/dev/null)
+code=$?
+[[ $code == 2 && "$err" == "--dest needs a folder (e.g. --dest models)" ]] || fail "--dest alone: exit $code, message '$err'"
+
 # No curl on PATH: one message up front, exit non-zero, nothing created.
 NOCURL="$DIR/nocurl"
 mkdir -p "$NOCURL"
