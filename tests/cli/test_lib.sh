@@ -13,25 +13,26 @@ finish() {
   fi
   echo "all $1 passed"
 }
+# run_dynorb command args...: runs `dynorb command args`; its stderr in $err, exit code in $code.
+run_dynorb() {
+  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
+  code=$?
+}
 # expect_error EXPECTED command args...: `dynorb command args` exits non-zero and its stderr
 # contains EXPECTED.
 expect_error() {
-  local expected=$1
+  local expected=$1 err code
   shift
-  local err code
-  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
-  code=$?
+  run_dynorb "$@"
   [[ $code != 0 ]] || fail "$*: exit code 0"
   grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
 }
 # expect_clean_error EXPECTED command args...: as expect_error, and an input error's exit code 2
 # with exactly one line.
 expect_clean_error() {
-  local expected=$1
+  local expected=$1 err code
   shift
-  local err code
-  err=$("$DYNORB" "$@" 2>&1 >/dev/null)
-  code=$?
+  run_dynorb "$@"
   [[ $code == 2 ]] || fail "$*: exit code $code"
   grep -qF -- "$expected" <<<"$err" || fail "$*: message '$err', expected '$expected'"
   [[ $(wc -l <<<"$err") == 1 ]] || fail "$*: more than one line: $err"
